@@ -1,0 +1,28 @@
+#include "server/dynamics/forward_dynamics.h"
+
+#include "server/dynamics/crba.h"
+#include "server/dynamics/ltdl.h"
+#include "server/dynamics/rnea.h"
+
+namespace igms {
+
+bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
+                     const std::vector<Force>* fext) {
+  const VectorX& b = bias(model, data, q, v, fext);  // C v + G - U_E
+  crba(model, data, q);                              // H
+  data.rhs = tau - b;                                // U + U_E - C - G
+  data.Hfact = data.H;
+  data.singular_dof = ltdlFactor(model.dof_parent, data.Hfact, data.diag);
+  if (data.singular_dof >= 0) return false;
+  ltdlSolve(model.dof_parent, data.Hfact, data.rhs);
+  data.qdd = data.rhs;
+  return true;
+}
+
+std::string dofName(const Model& model, int dof) {
+  for (int i = 0; i < model.nb; ++i)
+    if (dof >= model.v_index[i] && dof < model.v_index[i] + model.joint_nv[i]) return model.joint_name[i];
+  return "?";
+}
+
+}  // namespace igms

@@ -1,0 +1,27 @@
+// Random robots as URDF text, so that each test also exercises the URDF path
+// and KDL can be built from the same file independently of igms's builder.
+#pragma once
+
+#include <string>
+
+namespace igms::test {
+
+struct RandomRobotOptions {
+  int moving_joints = 8;
+  bool branches = true;        // false: a serial chain
+  double p_prismatic = 0.2;
+  double p_continuous = 0.15;
+  double p_fixed = 0.15;       // fixed joints mid-chain (merged by igms, kept by KDL)
+  double p_massless = 0.15;    // links without <inertial> (never a leaf)
+  double p_axis_aligned = 0.3; // else a random unit axis
+  bool damping = true;
+};
+
+// Deterministic in (options, seed). Root link "root" is massless; the rest
+// satisfy the triangle inequality. Origins and inertial frames are rotated.
+std::string randomUrdf(const RandomRobotOptions& options, unsigned seed);
+
+// A serial chain of n revolute joints along alternating axes (bench models).
+std::string serialChainUrdf(int n);
+
+}  // namespace igms::test
