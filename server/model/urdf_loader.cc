@@ -14,9 +14,9 @@ namespace {
 class CollectingHandler : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) lines.push_back(text);
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
   }
-  std::vector<std::string> lines;
+  std::vector<std::string> errors;
 };
 
 SE3 toSE3(const urdf::Pose& pose) {
@@ -118,14 +118,16 @@ RobotDescription parseUrdfDescription(const std::string& xml, const std::string&
   try {
     urdf = urdf::parseURDF(xml);
   } catch (const std::exception& e) {
-    handler.lines.push_back(e.what());
+    handler.errors.push_back(e.what());
   }
   console_bridge::restorePreviousOutputHandler();
-  if (!urdf) {
-    std::string why = handler.lines.empty() ? "not a valid URDF" : handler.lines.back();
-    for (size_t i = 0; i + 1 < handler.lines.size() && handler.lines.size() > 1; ++i)
-      why = handler.lines[i] + "; " + why;
-    throw ModelError(source + ": " + why);
+  // urdfdom logs some errors and still returns a model with the element
+  // half-read (an <inertial> with an unreadable number keeps mass, loses
+  // inertia): any error it reports fails the load, so nothing is lost silently.
+  if (!urdf || !handler.errors.empty()) {
+    std::string why;
+    for (const auto& e : handler.errors) why += (why.empty() ? "" : "; ") + e;
+    throw ModelError(source + ": " + (why.empty() ? "not a valid URDF" : why));
   }
   RobotDescription d;
   d.name = urdf->getName();

@@ -89,7 +89,9 @@ std::string randomUrdf(const RandomRobotOptions& o, unsigned seed) {
   out << "<?xml version=\"1.0\"?>\n<robot name=\"random" << seed << "\">\n";
   for (const auto& l : links) {
     // A massless leaf would make H singular: leaves always carry mass.
-    const bool massless = l.name == "root" || (l.massless && l.children > 0);
+    // The root has mass so the robot also works with a floating base; with a
+    // fixed base igms and KDL both ignore it.
+    const bool massless = l.name != "root" && l.massless && l.children > 0;
     out << "<link name=\"" << l.name << "\">" << (massless ? "" : g.inertial()) << "</link>\n";
   }
   out << joints.str() << "</robot>\n";

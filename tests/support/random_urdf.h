@@ -17,8 +17,8 @@ struct RandomRobotOptions {
   bool damping = true;
 };
 
-// Deterministic in (options, seed). Root link "root" is massless; the rest
-// satisfy the triangle inequality. Origins and inertial frames are rotated.
+// Deterministic in (options, seed). Every link with mass satisfies the
+// triangle inequality; the root link "root" has mass. Origins and inertial frames are rotated.
 std::string randomUrdf(const RandomRobotOptions& options, unsigned seed);
 
 // A serial chain of n revolute joints along alternating axes (bench models).
