@@ -1,6 +1,6 @@
 # Options: optional parts are on when their packages are found.
 option(IGMS_BUILD_TESTS "Build the ctest suites" ON)
-option(IGMS_BUILD_BENCH "Build the benchmarks (needs Google Benchmark)" ON)
+option(IGMS_BUILD_BENCH "Build the benchmarks (needs KDL as the peer)" ON)
 option(IGMS_WITH_KDL "Cross-check and benchmark against KDL (tests and bench only)" ON)
 option(IGMS_WITH_LCM "Build the LCM message types and transport" ON)
 # -march=native with code that includes KDL headers and links Debian's KDL

@@ -6,7 +6,10 @@
 namespace igms {
 
 // \return data.H (nv x nv, symmetric, both triangles filled). Also leaves
-// data.liMi and data.Ic (composite inertias) at q.
+// data.liMi, data.oMi and data.Ic (composite inertias, world axes) at q.
 const MatrixX& crba(const Model& model, Data& data, const VectorX& q);
+
+// The same with data.liMi already at q (as rnea or bias leave it).
+const MatrixX& crbaAtPlacements(const Model& model, Data& data);
 
 }  // namespace igms

@@ -9,10 +9,10 @@ namespace igms {
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext) {
   const VectorX& b = bias(model, data, q, v, fext);  // C v + G - U_E
-  crba(model, data, q);                              // H
+  crbaAtPlacements(model, data);                     // H, at the placements bias left
   data.rhs = tau - b;                                // U + U_E - C - G
   data.Hfact = data.H;
-  data.singular_dof = ltdlFactor(model.dof_parent, data.Hfact, data.diag);
+  data.singular_dof = ltdlFactor(model.dof_parent, model.dof_run_start, data.Hfact, data.diag);
   if (data.singular_dof >= 0) return false;
   ltdlSolve(model.dof_parent, data.Hfact, data.rhs);
   data.qdd = data.rhs;

@@ -9,13 +9,14 @@
 
 namespace igms {
 
-// Factorises the lower triangle of H in place into unit-lower L (strictly
-// below the diagonal) and D (on the diagonal), H = L^T D L. dof_parent[k] is
+// Factorises H in place, H = L^T D L: D on the diagonal, the unit-lower L
+// stored transposed in the upper triangle (L(k, i) at H(i, k)). dof_parent[k] is
 // the nearest ancestor dof of k (-1 at a root).
 // \return -1 on success, otherwise the first dof whose pivot vanished
 // (below kSingularPivot of its diagonal) or is not finite: H is singular there.
-// diag: scratch of size nv (keeps the original diagonal).
-int ltdlFactor(const std::vector<int>& dof_parent, MatrixX& H, VectorX& diag);
+// run_start[j]: first dof of the run of consecutive ancestors ending at j
+// (Model::dof_run_start). diag: scratch of size nv.
+int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_start, MatrixX& H, VectorX& diag);
 
 // A pivot below this fraction of its original diagonal entry counts as zero.
 constexpr double kSingularPivot = 1e-13;

@@ -30,10 +30,10 @@ struct Data {
   VectorX bias;              // b(q, v) = C v + G
 
   // crba and the factorisation of H (sparse LDL^T along the tree).
-  std::vector<SpatialInertia> Ic;  // composite inertia of the subtree, body coordinates
+  std::vector<SpatialInertia> Ic;  // crba: composite inertia of the subtree, world axes
+  std::vector<Motion> S_world;     // crba: motion subspace of every dof, world axes
   MatrixX H;                       // joint-space inertia (upper and lower filled)
   MatrixX Hfact;                   // L^T D L factors of H, same sparsity
-  Matrix6X F;                      // crba scratch: Ic S carried to the root
   VectorX qdd;                     // forward dynamics result
   VectorX rhs;                     // forward dynamics scratch
   VectorX diag;                    // factorisation scratch

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "server/model/model.h"
 
@@ -15,8 +16,18 @@ inline SE3 jointPlacement(const Model& m, int i, const Q& q) {
   const SE3& X = m.X_tree[i];
   const int iq = m.q_index[i];
   switch (m.joint_type[i]) {
-    case JointType::Revolute:
-      return {X.R * Eigen::AngleAxisd(q[iq], m.axis[i]).toRotationMatrix(), X.p};
+    case JointType::Revolute: {
+      // Axis-aligned joints (most robots) rotate two columns of X.R only.
+      const int k = m.axis_aligned[i];
+      if (k < 0) return {X.R * Eigen::AngleAxisd(q[iq], m.axis[i]).toRotationMatrix(), X.p};
+      const double angle = m.axis[i][k] * q[iq];  // axis is +-e_k
+      const double c = std::cos(angle), s = std::sin(angle);
+      const int a = (k + 1) % 3, b = (k + 2) % 3;  // R_k(angle) e_a = c e_a + s e_b
+      SE3 out{X.R, X.p};
+      out.R.col(a) = c * X.R.col(a) + s * X.R.col(b);
+      out.R.col(b) = c * X.R.col(b) - s * X.R.col(a);
+      return out;
+    }
     case JointType::Prismatic:
       return {X.R, X.p + X.R * (m.axis[i] * q[iq])};
     case JointType::Floating: {

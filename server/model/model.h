@@ -59,11 +59,13 @@ struct Model {
   std::vector<int> q_index, v_index, joint_nv;
   std::vector<SE3> X_tree;         // joint frame in the parent body frame (fixed part)
   std::vector<Vector3> axis;       // unit joint axis in the body frame
+  std::vector<int> axis_aligned;   // k when axis = +-e_k, else -1 (a faster joint placement)
   std::vector<SpatialInertia> inertia;  // in the body frame, fixed children merged in
   std::vector<std::vector<int>> children;
 
   // Per velocity coordinate.
   std::vector<int> dof_parent;     // nearest ancestor dof, -1 at a root: the sparsity of H
+  std::vector<int> dof_run_start;  // r <= k with dof_parent[t] = t - 1 for r < t <= k
   std::vector<double> damping;     // N*m*s/rad or N*s/m, from <dynamics damping>
   std::vector<double> friction;    // Coulomb, from <dynamics friction>; kept, not applied
   std::vector<double> lower, upper, effort_limit, velocity_limit;  // inf when absent

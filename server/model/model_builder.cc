@@ -139,6 +139,10 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
     m.parent.push_back(parent);
     m.X_tree.push_back(X_tree);
     m.axis.push_back(axis);
+    int aligned = -1;
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(std::abs(axis[k]) - 1.0) < 1e-15 && axis.squaredNorm() < 1.0 + 1e-15) aligned = k;
+    m.axis_aligned.push_back(aligned);
     m.inertia.push_back(SpatialInertia::Zero());
     m.children.emplace_back();
     if (parent >= 0) m.children[static_cast<size_t>(parent)].push_back(m.nb);
@@ -217,6 +221,10 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
     m.effort_limit[v0] = j->effort;
     m.velocity_limit[v0] = j->velocity;
   }
+
+  m.dof_run_start.assign(static_cast<size_t>(m.nv), 0);
+  for (int k = 0; k < m.nv; ++k)
+    m.dof_run_start[k] = (k > 0 && m.dof_parent[k] == k - 1) ? m.dof_run_start[k - 1] : k;
 
   // A joint whose subtree carries no inertia along its axis makes H singular.
   std::vector<SpatialInertia> Ic(m.inertia);

@@ -113,11 +113,22 @@ struct SpatialInertia {
   }
 
   // The same inertia expressed in frame A, given M = M_AB and this in B.
+  //   Io' = R Io R^T - [p]x[Rh]x - [Rh]x[p]x - m [p]x[p]x, with
+  //   [a]x[b]x = b a^T - (a.b) 1, so the shift is a few rank-one updates.
   SpatialInertia transformedBy(const SE3& M) const {
-    const Vector3 Rh = M.R * h;
-    const Matrix3 P = skew(M.p);
-    const Matrix3 H = skew(Rh);
-    return {m, Rh + m * M.p, M.R * Io * M.R.transpose() - (P * H + H * P) - m * P * P};
+    const Vector3 a = M.R * h;
+    const Vector3& p = M.p;
+    const Matrix3 T = M.R * Io;  // then R Io R^T = T R^T, symmetric: six entries
+    const double diag = 2.0 * a.dot(p) + m * p.squaredNorm();
+    Matrix3 I;
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) {
+        const double v = T.row(r).dot(M.R.row(c)) - a[r] * p[c] - p[r] * a[c] - m * p[r] * p[c];
+        I(r, c) = v;
+        I(c, r) = v;
+      }
+    I.diagonal().array() += diag;
+    return {m, a + m * p, I};
   }
 
   Matrix6 matrix() const {

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Fresh-machine set-up: installs the Debian packages igms needs (as root,
+# idempotent, quiet when all are there), then configures and builds (Release).
+#   scripts/setup.sh [extra cmake -D options]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake ninja-build g++ pkg-config            # toolchain
+  libeigen3-dev                               # dynamics core
+  liburdfdom-dev libyaml-cpp-dev              # model loaders (URDF, DH tables, scenes)
+  liblcm-dev liblcm-bin                       # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy
+  libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
+  liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
+  libgtest-dev nlohmann-json3-dev             # tests, igms-dyn's JSON
+  iproute2 util-linux                         # ip, unshare: private network namespace for LCM
+  python3 python3-yaml python3-matplotlib     # model generators, plots
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
+  cat build.configure.log
+  exit 1
+}
+grep -E "built:|left out:" build.configure.log || true
+cmake --build build -j "$(nproc)"
