@@ -55,6 +55,7 @@ struct Model {
   std::vector<std::string> joint_name;
   std::vector<std::string> body_name;  // name of the URDF link that is the body frame
   std::vector<JointType> joint_type;
+  std::vector<bool> joint_continuous;  // a revolute joint declared continuous (no limits)
   std::vector<int> parent;
   std::vector<int> q_index, v_index, joint_nv;
   std::vector<SE3> X_tree;         // joint frame in the parent body frame (fixed part)

@@ -136,6 +136,7 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
     m.joint_name.push_back(joint);
     m.body_name.push_back(link);
     m.joint_type.push_back(type);
+    m.joint_continuous.push_back(false);
     m.parent.push_back(parent);
     m.X_tree.push_back(X_tree);
     m.axis.push_back(axis);
@@ -185,6 +186,7 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
       const int b = addBody(j.name, j.child, type, body, X, j.axis.normalized());
       joint_of_body.resize(static_cast<size_t>(b + 1), nullptr);
       joint_of_body[static_cast<size_t>(b)] = &j;
+      m.joint_continuous[static_cast<size_t>(b)] = j.type == JointDescription::Type::Continuous;
       visit(j.child, b, SE3::Identity());
     }
   };

@@ -39,6 +39,21 @@ TEST(IgmsDyn, InfoListsJointsWithIndicesAndEveryLink) {
   EXPECT_EQ(j["links"].size(), 1u + 1u + 4u * 4u);  // trunk, imu, 4 x (hip thigh calf foot)
 }
 
+TEST(IgmsDyn, InfoNamesEachJointType) {
+  const std::string xml =
+      "<robot name=\"t\"><link name=\"a\"/><link name=\"b\"><inertial><mass value=\"1\"/><inertia ixx=\"1\" "
+      "ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link><link name=\"c\"><inertial><mass "
+      "value=\"1\"/><inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/></inertial></link>"
+      "<joint name=\"ab\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/></joint>"
+      "<joint name=\"bc\" type=\"prismatic\"><parent link=\"b\"/><child link=\"c\"/><limit lower=\"0\" "
+      "upper=\"1\" effort=\"1\" velocity=\"1\"/></joint></robot>";
+  std::ostringstream out;
+  dyn::info(modelFromUrdf(xml), out);
+  const json j = json::parse(out.str());
+  EXPECT_EQ(j["joints"][0]["type"], "continuous");
+  EXPECT_EQ(j["joints"][1]["type"], "prismatic");
+}
+
 TEST(IgmsDyn, EvalGivesTauMBiasQddAndPoses) {
   const Model m = loadModel(sourceDir() + "/models/puma560.urdf");
   int code = -1;

@@ -26,7 +26,7 @@ int info(const Model& model, std::ostream& out) {
   for (int i = 0; i < model.nb; ++i) {
     w.beginObject()
         .key("name").string(model.joint_name[i])
-        .key("type").string(jointTypeName(model.joint_type[i]))
+        .key("type").string(model.joint_continuous[i] ? "continuous" : jointTypeName(model.joint_type[i]))
         .key("q_index").integer(model.q_index[i])
         .key("v_index").integer(model.v_index[i])
         .endObject();
