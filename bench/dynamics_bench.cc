@@ -90,13 +90,8 @@ void benchRobot(const Robot& r, std::vector<Row>& rows) {
   Data data(model);
   const test::KdlRobot kdl = test::kdlFromUrdf(r.xml);
   std::mt19937 rng(3);
-  std::vector<VectorX> q, v, a, tau;
-  for (int k = 0; k < kStates; ++k) {
-    q.push_back(randomConfiguration(model, rng));
-    v.push_back(randomVector(model.nv, rng));
-    a.push_back(randomVector(model.nv, rng));
-    tau.push_back(randomVector(model.nv, rng, 10.0));
-  }
+  const RandomStates states = randomStates(model, kStates, rng);
+  const auto &q = states.q, &v = states.v, &a = states.a, &tau = states.tau;
   // KDL states: the same random numbers in KDL's joint order are not needed
   // for timing; any states of the right size will do.
   const unsigned nj = kdl.tree.getNrOfJoints();

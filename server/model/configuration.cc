@@ -45,6 +45,17 @@ VectorX randomConfiguration(const Model& model, std::mt19937& rng) {
   return q;
 }
 
+RandomStates randomStates(const Model& model, int count, std::mt19937& rng, double tau_scale) {
+  RandomStates s;
+  for (int k = 0; k < count; ++k) {
+    s.q.push_back(randomConfiguration(model, rng));
+    s.v.push_back(randomVector(model.nv, rng));
+    s.a.push_back(randomVector(model.nv, rng));
+    s.tau.push_back(randomVector(model.nv, rng, tau_scale));
+  }
+  return s;
+}
+
 void integrateConfiguration(const Model& model, const VectorX& q, const VectorX& v, double dt, VectorX& q_out) {
   if (&q_out != &q) q_out = q;
   for (int i = 0; i < model.nb; ++i) {

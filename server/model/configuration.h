@@ -3,6 +3,7 @@
 #pragma once
 
 #include <random>
+#include <vector>
 
 #include "server/model/data.h"
 
@@ -21,6 +22,12 @@ VectorX randomVector(int n, std::mt19937& rng, double scale = 1.0);
 // q_out = q (+) v dt: joints q + v dt; the floating base moves along the
 // constant body twist v for dt (exact SE(3) exponential). q_out may alias q.
 void integrateConfiguration(const Model& model, const VectorX& q, const VectorX& v, double dt, VectorX& q_out);
+
+// A batch of random states (q, v, a, tau) for benchmarks and tests.
+struct RandomStates {
+  std::vector<VectorX> q, v, a, tau;
+};
+RandomStates randomStates(const Model& model, int count, std::mt19937& rng, double tau_scale = 10.0);
 
 // Renormalises the floating base's quaternion (drift from integration).
 void normalizeConfiguration(const Model& model, VectorX& q);

@@ -2,7 +2,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <fstream>
 #include <sstream>
 
 namespace igms {
@@ -151,11 +150,7 @@ RobotDescription parseDhDescription(const std::string& yaml, const std::string& 
 }
 
 RobotDescription loadDhDescription(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModelError(path + ": cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseDhDescription(ss.str(), path);
+  return parseDhDescription(readModelFile(path), path);
 }
 
 Model loadDhModel(const std::string& path, const BuildOptions& options, std::vector<std::string>* warnings) {

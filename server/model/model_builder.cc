@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
@@ -242,6 +243,14 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
                           "' moves no mass or inertia along its axis: H is singular, forward dynamics will fail");
   }
   return m;
+}
+
+std::string readModelFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError(path + ": cannot open the file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 int Model::frameIndex(const std::string& n) const {

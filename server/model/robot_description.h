@@ -53,6 +53,9 @@ struct BuildOptions {
   Vector3 gravity = Vector3(0.0, 0.0, -9.81);
 };
 
+// The whole text of a model file; ModelError "PATH: cannot open the file".
+std::string readModelFile(const std::string& path);
+
 // Warnings (valid but suspicious data) are appended to *warnings when given.
 Model buildModel(const RobotDescription& description, const BuildOptions& options,
                  std::vector<std::string>* warnings = nullptr);

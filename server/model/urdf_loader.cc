@@ -3,7 +3,6 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
-#include <fstream>
 #include <mutex>
 #include <sstream>
 
@@ -138,11 +137,7 @@ RobotDescription parseUrdfDescription(const std::string& xml, const std::string&
 }
 
 RobotDescription loadUrdfDescription(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModelError(path + ": cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseUrdfDescription(ss.str(), path);
+  return parseUrdfDescription(readModelFile(path), path);
 }
 
 Model loadUrdfModel(const std::string& path, const BuildOptions& options, std::vector<std::string>* warnings) {

@@ -160,13 +160,8 @@ int bench(const Model& model, bool json, std::ostream& out) {
   Data data(model);
   std::mt19937 rng(42);
   const int states = 64;
-  std::vector<VectorX> q, v, a, tau;
-  for (int k = 0; k < states; ++k) {
-    q.push_back(randomConfiguration(model, rng));
-    v.push_back(randomVector(model.nv, rng));
-    a.push_back(randomVector(model.nv, rng));
-    tau.push_back(randomVector(model.nv, rng, 10.0));
-  }
+  const RandomStates random = randomStates(model, states, rng);
+  const auto &q = random.q, &v = random.v, &a = random.a, &tau = random.tau;
   // The Jacobian of the frame of the last body (a leaf of the tree).
   const int frame = std::max(0, model.frameIndex(model.body_name.empty() ? model.root_link : model.body_name.back()));
   double sink = 0.0;
