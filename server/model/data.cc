@@ -25,7 +25,6 @@ Data::Data(const Model& m)
       U(Matrix6X::Zero(6, m.nv)),
       Dinv(VectorX::Zero(m.nv)),
       u(VectorX::Zero(m.nv)),
-      D6inv(Matrix6::Zero()),
       J(Matrix6X::Zero(6, m.nv)) {}
 
 }  // namespace igms

@@ -45,7 +45,6 @@ struct Data {
   std::vector<Motion> c;     // velocity-product acceleration v x vJ
   Matrix6X U;                // IA S per dof
   VectorX Dinv, u;
-  Eigen::Matrix<double, 6, 6> D6inv;  // floating root: inverse of its 6x6 D
 
   // Jacobians.
   Matrix6X J;                // 6 x nv frame Jacobian scratch
