@@ -1,0 +1,17 @@
+// Channel names and the default LCM URL: the one place they are spelled.
+#pragma once
+
+namespace igms::channels {
+
+// ttl=0 (LCM's default, written out): nothing leaves this machine. Processes
+// that open it run inside scripts/netns_run.sh so that IGMP joins stay local too.
+inline constexpr const char* kDefaultUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+inline constexpr const char* kHapticInput = "IGMS_HAPTIC_INPUT";       // haptic_input_t
+inline constexpr const char* kRobotState = "IGMS_ROBOT_STATE";         // robot_state_t
+inline constexpr const char* kCommand = "IGMS_COMMAND";                // command_t
+inline constexpr const char* kServerStatus = "IGMS_SERVER_STATUS";     // server_status_t
+inline constexpr const char* kEditedTrajectory = "IGMS_TRAJECTORY_EDITED";  // trajectory_t
+inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartbeat_t
+
+}  // namespace igms::channels

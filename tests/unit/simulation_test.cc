@@ -1,0 +1,179 @@
+// The simulation step (the paper's loop): every branch, on the committed scenes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "server/kinematics/forward_kinematics.h"
+#include "server/loop/simulation.h"
+#include "tests/support/malloc_counter.h"
+#include "tests/support/test_models.h"
+
+namespace igms::test {
+namespace {
+
+Scene scene(const std::string& name) { return loadScene(sourceDir() + "/scenes/" + name); }
+
+Vector3 framePosition(Simulation& sim, const std::string& frame) {
+  return sim.linkPoses()[static_cast<size_t>(sim.model().frameIndex(frame))].p;
+}
+
+void run(Simulation& sim, double seconds, const InteractionInput* in = nullptr) {
+  const int n = static_cast<int>(std::lround(seconds / sim.scene().dt));
+  for (int k = 0; k < n; ++k) ASSERT_TRUE(sim.step(in)) << sim.divergenceReport();
+}
+
+TEST(Scenes, EveryCommittedSceneLoadsAndRuns) {
+  for (const char* name : {"puma_wall.yaml", "puma_obstacle.yaml", "puma_swing.yaml", "quadruped_float.yaml"}) {
+    Simulation sim(scene(name));
+    run(sim, 0.5);
+    EXPECT_TRUE(sim.q().allFinite()) << name;
+  }
+}
+
+TEST(Scenes, ComponentsFollowWhatTheSceneUses) {
+  Simulation wall(scene("puma_wall.yaml")), swing(scene("puma_swing.yaml")), fb(scene("quadruped_float.yaml"));
+  auto has = [](const Simulation& s, const std::string& c) {
+    const auto v = s.activeComponents();
+    return std::find(v.begin(), v.end(), c) != v.end();
+  };
+  EXPECT_TRUE(has(wall, "trajectory") && has(wall, "collision") && has(wall, "push") && has(wall, "pull"));
+  EXPECT_FALSE(has(swing, "trajectory") || has(swing, "collision"));
+  EXPECT_TRUE(has(fb, "floating_base"));
+  EXPECT_FALSE(has(fb, "fixed_base"));
+}
+
+TEST(Scenes, ErrorsNameFileLineAndKey) {
+  auto error = [](const std::string& yaml) {
+    try {
+      parseScene(yaml, "bad.yaml", sourceDir() + "/scenes");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("robot: {model: x.urdf}\nsimulation: {integrator: euler}\n")
+                .find("bad.yaml:2: simulation.integrator: must be"),
+            std::string::npos);
+  EXPECT_NE(error("robot: {model: x.urdf}\nrobbot: 1\n").find("bad.yaml:2: scene.robbot: unknown key"),
+            std::string::npos);
+  EXPECT_NE(error("robot: {model: x.urdf}\ninteraction:\n  push: {k_p: -3}\n")
+                .find("bad.yaml:3: interaction.push.k_p: must be positive"),
+            std::string::npos);
+  EXPECT_NE(error("gravity: [0, 0, -9.81]\n").find("robot: missing"), std::string::npos);
+  try {
+    Scene s = parseScene("robot: {model: ../models/puma560.urdf}\ninitial: {q: [0, 0]}\n", "short.yaml",
+                         sourceDir() + "/scenes");
+    Simulation sim(s);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("short.yaml: initial.q has 2 entries, the model needs 6"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Simulation, NominalRunFollowsTheStraightLineToTheTarget) {
+  Simulation sim(scene("puma_wall.yaml"));
+  run(sim, 4.5);
+  EXPECT_LE((framePosition(sim, "ee_link") - Vector3(0.45, 0.50, 0.25)).norm(), 2e-3);
+}
+
+TEST(Simulation, PushChangesTheTrajectoryAndGenerationResumesToTheGoal) {
+  Simulation nominal(scene("puma_wall.yaml")), pushed(scene("puma_wall.yaml"));
+  run(nominal, 1.0);
+  run(pushed, 1.0);
+  // Press the tip into link 3's collision cylinder, from above.
+  const auto& poses = pushed.linkPoses();
+  const Frame& link3 = pushed.model().frame(pushed.model().frameIndex("link3"));
+  const Vector3 centre = (poses[pushed.model().frameIndex("link3")] * link3.collisions[0].placement).p;
+  InteractionInput push;
+  push.mode = InteractionMode::Push;
+  push.tip_position = centre + Vector3(0, 0, 0.05);  // 1 cm into the 5 cm radius, tip radius 1 cm
+  push.tip_radius = 0.01;
+  push.contact_frame = pushed.model().frameIndex("link3");
+  push.seq = 1;
+  double peak = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    ASSERT_TRUE(pushed.step(&push));
+    ASSERT_TRUE(nominal.step(nullptr));
+    peak = std::max(peak, pushed.outcome().force_on_robot.norm());
+  }
+  EXPECT_GT(peak, 1.0) << "the tip pressed on link 3";
+  EXPECT_GT((pushed.q() - nominal.q()).norm(), 0.01) << "the push moved the robot off its nominal path";
+  ASSERT_TRUE(pushed.step(nullptr));
+  EXPECT_TRUE(pushed.outcome().replanned);
+  run(pushed, 6.0);
+  EXPECT_LE((pushed.q() - pushed.goal()).norm(), 1e-3) << "generation resumed and reached the goal";
+}
+
+TEST(Simulation, PullDragsTheEndEffectorToAHeldDevicePoint) {
+  Simulation sim(scene("puma_wall.yaml"));
+  const Vector3 target = framePosition(sim, "ee_link") + Vector3(0.04, 0.0, 0.03);
+  InteractionInput pull;
+  pull.mode = InteractionMode::Pull;
+  pull.tip_position = target;
+  pull.seq = 1;
+  run(sim, 3.0, &pull);
+  EXPECT_LE((framePosition(sim, "ee_link") - target).norm(), 3e-3);
+  EXPECT_LE(sim.outcome().force_on_robot.norm(), 5.0);  // gravity is compensated: little force left
+}
+
+TEST(Simulation, StepDoesNotAllocate) {
+  Simulation sim(scene("puma_wall.yaml"));
+  InteractionInput push, pull;
+  push.mode = InteractionMode::Push;
+  push.tip_position = Vector3(0.1, -0.1, 0.2);
+  pull.mode = InteractionMode::Pull;
+  pull.tip_position = framePosition(sim, "ee_link") + Vector3(0.02, 0, 0);
+  run(sim, 0.01);  // warm
+  const size_t n = allocationsDuring([&] {
+    for (int k = 0; k < 50; ++k) sim.step(nullptr);
+    for (int k = 0; k < 50; ++k) sim.step(&push);
+    for (int k = 0; k < 50; ++k) sim.step(&pull);
+    for (int k = 0; k < 50; ++k) sim.step(nullptr);  // the resume trajectory is planned here
+    sim.linkPoses();
+  });
+  EXPECT_EQ(n, 0u);
+}
+
+TEST(Simulation, DivergenceIsReportedAndTheLastGoodStateKept) {
+  Scene s = scene("puma_swing.yaml");
+  s.integrator = IntegratorKind::SemiImplicitEuler;
+  s.pull.k = 1e8;
+  s.pull.b = 0.0;
+  s.pull.max_force = 1e12;
+  s.pull.max_stretch = 10.0;
+  Simulation sim(s);
+  InteractionInput pull;
+  pull.mode = InteractionMode::Pull;
+  pull.tip_position = framePosition(sim, "ee_link") + Vector3(0.01, 0, 0);
+  bool ok = true;
+  for (int k = 0; k < 2000 && ok; ++k) ok = sim.step(&pull);
+  EXPECT_FALSE(ok);
+  EXPECT_TRUE(sim.diverged());
+  EXPECT_NE(sim.divergenceReport().find("diverged at t ="), std::string::npos) << sim.divergenceReport();
+  EXPECT_TRUE(sim.q().allFinite());
+  EXPECT_FALSE(sim.step(nullptr));
+  // The same coupling with the linearly-implicit integrator stays stable.
+  s.integrator = IntegratorKind::LinearlyImplicit;
+  Simulation stable(s);
+  for (int k = 0; k < 2000; ++k) ASSERT_TRUE(stable.step(&pull)) << stable.divergenceReport();
+}
+
+TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
+  Simulation sim(scene("puma_wall.yaml"));
+  run(sim, 1.0);
+  const std::string path = ::testing::TempDir() + "/edited.yaml";
+  sim.saveEditedTrajectory(path);
+  EXPECT_GE(sim.editedCount(), 100);
+  Scene replay = scene("puma_wall.yaml");
+  replay.trajectory = parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "")
+                          .trajectory;
+  Simulation again(replay);
+  run(again, 1.0);
+  EXPECT_LE((again.q() - sim.q()).norm(), 5e-3);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace igms::test
