@@ -174,19 +174,18 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       s.trajectory.duration = r.positive(t, "duration", 0.0, "trajectory");
     } else if (kind == "joint_waypoints" || kind == "file") {
       s.trajectory.kind = TrajectorySpec::Kind::JointWaypoints;
-      YAML::Node points = t["waypoints"];
       YAML::Node file_doc;  // keeps the loaded file alive while its nodes are read
       std::string where = source;
       if (kind == "file") {
-        const std::string file = join(base_dir, r.text(t, "file", ""));
+        where = join(base_dir, r.text(t, "file", ""));
         try {
-          file_doc = YAML::LoadFile(file);
-          points.reset(file_doc["waypoints"]);  // rebind: operator= would write through the node
+          file_doc = YAML::LoadFile(where);
         } catch (const YAML::Exception& e) {
-          r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + file + "': " + e.msg);
+          r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + where + "': " + e.msg);
         }
-        where = file;
       }
+      // Bound once: yaml-cpp's operator= on a node writes through it instead of rebinding.
+      const YAML::Node points = kind == "file" ? file_doc["waypoints"] : t["waypoints"];
       if (!points || !points.IsSequence() || points.size() < 2)
         r.fail(t, "trajectory.waypoints", "needs a list of two or more {t, q} in " + where);
       for (const auto& p : points) {
