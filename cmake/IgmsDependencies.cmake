@@ -1,6 +1,7 @@
 # System packages only (Debian): no downloads at build time.
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
 
 # urdfdom: only the model loaders use it.
 pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom)

@@ -1,0 +1,33 @@
+// Robot links against the scene's obstacles, through FCL: collision and
+// minimum distance, every step. FCL's queries allocate, so this runs beside
+// the step (on the publishing thread), never inside it.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/scene/scene.h"
+
+namespace igms {
+
+struct CollisionReport {
+  bool in_collision = false;
+  double min_distance = 1e9;  // m, negative when penetrating
+  std::string closest_link, closest_obstacle;
+};
+
+class CollisionWorld {
+ public:
+  CollisionWorld(const Model& model, const std::vector<Obstacle>& obstacles);
+  ~CollisionWorld();
+  bool empty() const;
+  // link_poses: world pose of every Model frame.
+  CollisionReport check(const std::vector<SE3>& link_poses);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace igms

@@ -1,0 +1,214 @@
+// igms-server as a process on the LCM bus (udpm, private network namespace):
+// the state stream arrives at 1 kHz, a push changes the trajectory, a pull
+// drags the end-effector to the device point, bad messages are counted and
+// ignored, SIGTERM stops it cleanly.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <lcm/lcm-cpp.hpp>
+#include <mutex>
+#include <thread>
+
+#include "channels.h"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+#include "server/loop/simulation.h"
+#include "tests/support/child_process.h"
+#include "tests/support/test_models.h"
+
+namespace igms::test {
+namespace {
+
+const int64_t kToken = 4242;
+
+std::string url() { return std::string("udpm://239.255.76.67:") + std::getenv("IGMS_TEST_PORT") + "?ttl=0"; }
+
+// Listens to state and status on a thread of its own.
+class Listener {
+ public:
+  Listener() : bus_(url()) {
+    bus_.subscribe(channels::kRobotState, &Listener::onState, this)->setQueueCapacity(5000);
+    bus_.subscribe(channels::kServerStatus, &Listener::onStatus, this);
+    thread_ = std::thread([this] {
+      while (!stop_) bus_.handleTimeout(10);
+    });
+  }
+  ~Listener() {
+    stop_ = true;
+    thread_.join();
+  }
+  void onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m) {
+    std::lock_guard<std::mutex> l(mutex);
+    if (m->seq <= last.seq && count > 0) ++out_of_order;
+    last = *m;
+    ++count;
+  }
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m) {
+    std::lock_guard<std::mutex> l(mutex);
+    status = *m;
+    ++statuses;
+  }
+  bool waitForStatus(int n, double seconds) {
+    for (int k = 0; k < seconds * 100; ++k) {
+      {
+        std::lock_guard<std::mutex> l(mutex);
+        if (statuses >= n) return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+  std::mutex mutex;
+  robot_state_t last;
+  server_status_t status;
+  int count = 0, statuses = 0, out_of_order = 0;
+
+ private:
+  lcm::LCM bus_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+ChildProcess startServer(const std::string& scene) {
+  return ChildProcess({std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/" + scene, "--lcm-url", url(),
+                       "--session-token", std::to_string(kToken), "--quiet"});
+}
+
+haptic_input_t input(int64_t seq, int8_t mode, const Vector3& tip) {
+  haptic_input_t m{};
+  m.utime = seq;
+  m.seq = seq;
+  m.client_id = 1;
+  m.session_token = kToken;
+  m.mode = mode;
+  for (int k = 0; k < 3; ++k) m.tip_position[k] = tip[k];
+  m.tip_radius = 0.01;
+  return m;
+}
+
+int linkIndex(const server_status_t& s, const std::string& name) {
+  for (int k = 0; k < s.nlinks; ++k)
+    if (s.link_names[k] == name) return k;
+  return -1;
+}
+
+Vector3 linkPosition(const robot_state_t& s, int link) {
+  return Vector3(s.link_poses[link][0], s.link_poses[link][1], s.link_poses[link][2]);
+}
+
+TEST(Server, StreamsStateAtOneKilohertzAndStopsOnSigterm) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(2, 10.0)) << "no status from the server";
+  int before;
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    before = listener.count;
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  int after;
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    after = listener.count;
+    EXPECT_EQ(listener.out_of_order, 0);
+    EXPECT_EQ(listener.last.nq, 6);
+    EXPECT_EQ(listener.last.nlinks, 8);
+    EXPECT_GT(listener.status.rate_hz, 950.0);
+  }
+  const double rate = (after - before) / 2.0;
+  EXPECT_GT(rate, 900.0) << "states per second received";
+  EXPECT_LT(rate, 1100.0);
+  EXPECT_EQ(server.stop(), 0) << "clean exit on SIGTERM";
+}
+
+TEST(Server, PushChangesTheTrajectoryAndPullDragsTheEndEffector) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  robot_state_t s;
+  server_status_t status;
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    s = listener.last;
+    status = listener.status;
+  }
+  // The same scene without input, in process: where the nominal run would be.
+  Simulation nominal(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  const int link3 = linkIndex(status, "link3"), ee = linkIndex(status, "ee_link");
+  ASSERT_GE(link3, 0);
+  // Push: the tip 4 cm above link 3's origin for 300 ms.
+  int64_t seq = 1;
+  for (int k = 0; k < 300; ++k) {
+    {
+      std::lock_guard<std::mutex> l(listener.mutex);
+      s = listener.last;
+    }
+    haptic_input_t m = input(seq++, haptic_input_t::MODE_PUSH, linkPosition(s, link3) + Vector3(0.0, 0.0, 0.06));
+    m.contact_link = "link3";
+    bus.publish(channels::kHapticInput, &m);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    s = listener.last;
+  }
+  while (nominal.time() < s.sim_time - 1e-9) nominal.step(nullptr);
+  double diff = 0.0;
+  for (int j = 0; j < 6; ++j) diff = std::max(diff, std::abs(s.q[j] - nominal.q()[j]));
+  EXPECT_GT(diff, 0.01) << "the push moved the robot off its nominal trajectory";
+  // Pull: hold the device 3 cm from the end-effector for 2 s.
+  const Vector3 target = linkPosition(s, ee) + Vector3(0.0, 0.03, 0.02);
+  for (int k = 0; k < 2000; ++k) {
+    haptic_input_t m = input(seq++, haptic_input_t::MODE_PULL, target);
+    bus.publish(channels::kHapticInput, &m);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    s = listener.last;
+  }
+  EXPECT_EQ(s.mode, haptic_input_t::MODE_PULL);
+  EXPECT_LE((linkPosition(s, ee) - target).norm(), 5e-3) << "the end-effector follows the held device point";
+  EXPECT_GT(s.input_seq, 0);
+  EXPECT_EQ(server.stop(), 0);
+}
+
+TEST(Server, BadMessagesAreRejectedByReasonAndTheServerKeepsRunning) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  haptic_input_t nan_input = input(10, haptic_input_t::MODE_PUSH, Vector3(0.1, 0.1, 0.1));
+  nan_input.tip_position[1] = NAN;
+  haptic_input_t token = input(11, haptic_input_t::MODE_NONE, Vector3::Zero());
+  token.session_token = 1;
+  haptic_input_t link = input(12, haptic_input_t::MODE_PUSH, Vector3::Zero());
+  link.contact_link = "no_such_link";
+  haptic_input_t range = input(13, haptic_input_t::MODE_NONE, Vector3(1e6, 0, 0));
+  haptic_input_t good = input(20, haptic_input_t::MODE_NONE, Vector3::Zero());
+  haptic_input_t stale = input(19, haptic_input_t::MODE_NONE, Vector3::Zero());
+  const uint8_t garbage[7] = {1, 2, 3, 4, 5, 6, 7};
+  for (const haptic_input_t* m : {&nan_input, &token, &link, &range, &good, &stale}) {
+    bus.publish(channels::kHapticInput, m);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  bus.publish(channels::kHapticInput, garbage, sizeof garbage);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  std::lock_guard<std::mutex> l(listener.mutex);
+  const server_status_t& st = listener.status;
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_NONFINITE], 1);
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_TOKEN], 1);
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_UNKNOWN_LINK], 1);
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_RANGE], 1);
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_STALE], 1);
+  EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_UNDECODABLE], 1);
+  EXPECT_EQ(st.inputs_rejected, 6);
+  EXPECT_EQ(st.state, "running");
+  EXPECT_TRUE(std::isfinite(listener.last.q[0]));
+}
+
+}  // namespace
+}  // namespace igms::test
