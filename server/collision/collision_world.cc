@@ -2,6 +2,9 @@
 
 #include <fcl/fcl.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace igms {
 namespace {
 
@@ -22,18 +25,37 @@ fcl::Transform3d toFcl(const SE3& X) {
   return T;
 }
 
+// Radius of a sphere about the shape's origin that contains it.
+double boundingRadius(const CollisionShape& s) {
+  switch (s.kind) {
+    case CollisionShape::Kind::Box: return 0.5 * s.size.norm();
+    case CollisionShape::Kind::Cylinder: return std::hypot(s.size[0], 0.5 * s.size[1]);
+    case CollisionShape::Kind::Sphere: return s.size[0];
+    case CollisionShape::Kind::Mesh: return 0.0;
+  }
+  return 0.0;
+}
+
 }  // namespace
 
 struct CollisionWorld::Impl {
   struct LinkShape {
     int frame;
     SE3 placement;
+    double radius;
     std::unique_ptr<fcl::CollisionObjectd> object;
   };
   struct ObstacleShape {
     std::string name;
+    Vector3 centre;
+    double radius;
     std::unique_ptr<fcl::CollisionObjectd> object;
   };
+  struct Pair {
+    double lower_bound;
+    size_t link, obstacle;
+  };
+  std::vector<Pair> pairs;
   const Model& model;
   std::vector<LinkShape> links;
   std::vector<ObstacleShape> obstacles;
@@ -46,14 +68,15 @@ CollisionWorld::CollisionWorld(const Model& model, const std::vector<Obstacle>& 
     if (model.frames[f].body < 0) continue;  // fixed to the world (the base): never collides with its surroundings
     for (const auto& s : model.frames[f].collisions)
       if (auto g = geometry(s))
-        impl_->links.push_back({static_cast<int>(f), s.placement, std::make_unique<fcl::CollisionObjectd>(g)});
+        impl_->links.push_back(
+            {static_cast<int>(f), s.placement, boundingRadius(s), std::make_unique<fcl::CollisionObjectd>(g)});
   }
   for (const auto& o : obstacles) {
     auto g = geometry(o.shape);
     if (!g) continue;
     auto obj = std::make_unique<fcl::CollisionObjectd>(g, toFcl(o.shape.placement));
     obj->computeAABB();
-    impl_->obstacles.push_back({o.name, std::move(obj)});
+    impl_->obstacles.push_back({o.name, o.shape.placement.p, boundingRadius(o.shape), std::move(obj)});
   }
 }
 
@@ -64,18 +87,33 @@ bool CollisionWorld::empty() const { return impl_->links.empty() || impl_->obsta
 CollisionReport CollisionWorld::check(const std::vector<SE3>& poses) {
   CollisionReport out;
   fcl::DistanceRequestd request;
-  request.enable_signed_distance = true;
-  for (auto& l : impl_->links) {
-    l.object->setTransform(toFcl(poses[static_cast<size_t>(l.frame)] * l.placement));
+  request.enable_signed_distance = false;  // penetration depth (EPA) costs 5-10x; a collision reports <= 0
+  // Bounding spheres give a lower bound on each pair's distance: query pairs
+  // in that order and stop when no bound can beat the best distance (exact).
+  auto& pairs = impl_->pairs;
+  pairs.clear();
+  for (size_t l = 0; l < impl_->links.size(); ++l) {
+    auto& link = impl_->links[l];
+    const SE3 X = poses[static_cast<size_t>(link.frame)] * link.placement;
+    link.object->setTransform(toFcl(X));
+    for (size_t o = 0; o < impl_->obstacles.size(); ++o) {
+      const auto& ob = impl_->obstacles[o];
+      pairs.push_back({(X.p - ob.centre).norm() - link.radius - ob.radius, l, o});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Impl::Pair& a, const Impl::Pair& b) { return a.lower_bound < b.lower_bound; });
+  for (const Impl::Pair& p : pairs) {
+    if (p.lower_bound >= out.min_distance) break;
+    auto& l = impl_->links[p.link];
+    auto& o = impl_->obstacles[p.obstacle];
     l.object->computeAABB();
-    for (auto& o : impl_->obstacles) {
-      fcl::DistanceResultd result;
-      fcl::distance(l.object.get(), o.object.get(), request, result);
-      if (result.min_distance < out.min_distance) {
-        out.min_distance = result.min_distance;
-        out.closest_link = impl_->model.frames[static_cast<size_t>(l.frame)].name;
-        out.closest_obstacle = o.name;
-      }
+    fcl::DistanceResultd result;
+    fcl::distance(l.object.get(), o.object.get(), request, result);
+    result.min_distance = std::max(0.0, result.min_distance);  // FCL says -1 for "colliding"
+    if (result.min_distance < out.min_distance) {
+      out.min_distance = result.min_distance;
+      out.closest_link = impl_->model.frames[static_cast<size_t>(l.frame)].name;
+      out.closest_obstacle = o.name;
     }
   }
   out.in_collision = out.min_distance <= 0.0;
