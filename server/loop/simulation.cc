@@ -259,6 +259,10 @@ void Simulation::computeControl(const InteractionInput* in) {
                     ((in->mode == InteractionMode::Push && scene_.push.enabled) ||
                      (in->mode == InteractionMode::Pull && scene_.pull.enabled));
   outcome_ = StepOutcome{};
+  if (in) {  // every consumed input is named in the state, whatever its mode
+    outcome_.input_seq = in->seq;
+    outcome_.input_client = in->client;
+  }
   e.mode = user ? in->mode : InteractionMode::None;
   if (user) {
     e.tip = in->tip_position;
@@ -267,8 +271,6 @@ void Simulation::computeControl(const InteractionInput* in) {
     e.contact_frame = in->contact_frame;
     e.attach_frame = in->attach_frame >= 0 ? in->attach_frame : pull_frame_;
     e.attach_point = in->attach_frame >= 0 ? in->attach_point : scene_.pull.point;
-    outcome_.input_seq = in->seq;
-    outcome_.input_client = in->client;
   }
   if (user && !interacting_) interacting_ = true;
   if (!user && interacting_) {

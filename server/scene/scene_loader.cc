@@ -245,7 +245,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   }
 
   if (const YAML::Node sim = root["simulation"]) {
-    r.onlyKeys(sim, "simulation", {"integrator", "dt", "rate_hz", "joint_damping", "obstacle_contact"});
+    r.onlyKeys(sim, "simulation", {"integrator", "dt", "rate_hz", "joint_damping"});
     const std::string integ = r.text(sim, "integrator", "linearly_implicit");
     if (integ == "semi_implicit_euler") s.integrator = IntegratorKind::SemiImplicitEuler;
     else if (integ == "rk4") s.integrator = IntegratorKind::Rk4;
@@ -254,12 +254,6 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
     s.dt = r.positive(sim, "dt", s.dt, "simulation");
     s.rate_hz = r.positive(sim, "rate_hz", 1.0 / s.dt, "simulation");
     s.joint_damping = r.flag(sim, "joint_damping", true);
-    if (const YAML::Node c = sim["obstacle_contact"]) {
-      r.onlyKeys(c, "simulation.obstacle_contact", {"k", "b"});
-      s.obstacle_contact = true;
-      s.contact_k = r.positive(c, "k", s.contact_k, "simulation.obstacle_contact");
-      s.contact_b = r.number(c, "b", s.contact_b);
-    }
   }
   return s;
 }

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "channels.h"
+#include "igms/command_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
@@ -208,6 +209,85 @@ TEST(Server, BadMessagesAreRejectedByReasonAndTheServerKeepsRunning) {
   EXPECT_EQ(st.inputs_rejected, 6);
   EXPECT_EQ(st.state, "running");
   EXPECT_TRUE(std::isfinite(listener.last.q[0]));
+}
+
+}  // namespace
+}  // namespace igms::test
+
+namespace igms::test {
+namespace {
+
+TEST(Server, LockstepTakesOneStepPerInputAndRecordsItsSeq) {
+  Listener listener;
+  ChildProcess server({std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/puma_wall.yaml", "--lcm-url",
+                       url(), "--session-token", std::to_string(kToken), "--clock", "lockstep", "--quiet"});
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  for (int64_t seq = 1; seq <= 50; ++seq) {
+    haptic_input_t m = input(seq, haptic_input_t::MODE_NONE, Vector3::Zero());
+    bus.publish(channels::kHapticInput, &m);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_EQ(listener.last.seq, 50) << "one step per input";
+    EXPECT_EQ(listener.last.input_seq, 50);
+    EXPECT_NEAR(listener.last.sim_time, 0.05, 1e-9);
+    EXPECT_EQ(listener.status.state, "lockstep");
+  }
+  // The state after 50 steps is the in-process simulation's after 50 steps.
+  Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  InteractionInput none;
+  for (int k = 0; k < 50; ++k) sim.step(&none);
+  std::lock_guard<std::mutex> l(listener.mutex);
+  for (int j = 0; j < 6; ++j) EXPECT_EQ(listener.last.q[j], sim.q()[j]) << "bit-identical re-simulation";
+}
+
+TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  auto send = [&](int8_t kind, const std::string& text = "") {
+    command_t c{};
+    c.kind = kind;
+    c.text = text;
+    bus.publish(channels::kCommand, &c);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  };
+  send(command_t::PAUSE);
+  int64_t paused_seq;
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    paused_seq = listener.last.seq;
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_EQ(listener.last.seq, paused_seq) << "paused: no steps";
+    EXPECT_EQ(listener.status.state, "paused");
+  }
+  send(command_t::STEP);
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_EQ(listener.last.seq, paused_seq + 1) << "one step";
+  }
+  const std::string path = ::testing::TempDir() + "/server_edited.yaml";
+  send(command_t::SAVE_TRAJECTORY, path);
+  EXPECT_NE(readFile(path).find("waypoints:"), std::string::npos);
+  std::remove(path.c_str());
+  int64_t old_token;
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    old_token = listener.status.session_token;
+  }
+  send(command_t::RESET);
+  send(command_t::START);
+  std::lock_guard<std::mutex> l(listener.mutex);
+  EXPECT_NE(listener.status.session_token, old_token) << "a reset starts a new session";
+  EXPECT_LT(listener.last.sim_time, 0.5);
+  EXPECT_EQ(listener.status.state, "running");
 }
 
 }  // namespace
