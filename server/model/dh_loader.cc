@@ -53,13 +53,6 @@ SE3 rotZ(double a) { return {Eigen::AngleAxisd(a, Vector3::UnitZ()).toRotationMa
 SE3 transX(double a) { return {Matrix3::Identity(), Vector3(a, 0, 0)}; }
 SE3 transZ(double d) { return {Matrix3::Identity(), Vector3(0, 0, d)}; }
 
-SE3 fromXyzRpy(const std::vector<double>& xyz, const std::vector<double>& rpy) {
-  const Matrix3 R = (Eigen::AngleAxisd(rpy[2], Vector3::UnitZ()) * Eigen::AngleAxisd(rpy[1], Vector3::UnitY()) *
-                     Eigen::AngleAxisd(rpy[0], Vector3::UnitX()))
-                        .toRotationMatrix();
-  return {R, Vector3(xyz[0], xyz[1], xyz[2])};
-}
-
 }  // namespace
 
 RobotDescription parseDhDescription(const std::string& yaml, const std::string& source) {
@@ -83,7 +76,10 @@ RobotDescription parseDhDescription(const std::string& yaml, const std::string& 
 
   d.links.push_back(LinkDescription{"base_link", 0.0, Vector3::Zero(), Matrix3::Zero(), {}});
   SE3 tail = SE3::Identity();
-  if (const YAML::Node base = root["base"]) tail = fromXyzRpy(r.numbers(base, "xyz", 3), r.numbers(base, "rpy", 3));
+  if (const YAML::Node base = root["base"]) {
+    const auto xyz = r.numbers(base, "xyz", 3), rpy = r.numbers(base, "rpy", 3);
+    tail = fromXyzRpy(Vector3(xyz[0], xyz[1], xyz[2]), Vector3(rpy[0], rpy[1], rpy[2]));
+  }
   std::string parent = "base_link";
   int index = 1;
   for (const YAML::Node& row : links) {

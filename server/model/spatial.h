@@ -141,6 +141,14 @@ struct SpatialInertia {
   }
 };
 
+// URDF-style pose: translation xyz, rotation R = Rz(yaw) Ry(pitch) Rx(roll).
+inline SE3 fromXyzRpy(const Vector3& xyz, const Vector3& rpy) {
+  return {(Eigen::AngleAxisd(rpy[2], Vector3::UnitZ()) * Eigen::AngleAxisd(rpy[1], Vector3::UnitY()) *
+           Eigen::AngleAxisd(rpy[0], Vector3::UnitX()))
+              .toRotationMatrix(),
+          xyz};
+}
+
 // X^T I X for a 6x6 symmetric inertia I given in B, with M = M_AB: the same
 // articulated inertia expressed in A.
 inline Matrix6 transformInertiaToParent(const SE3& M, const Matrix6& I) {

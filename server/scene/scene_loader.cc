@@ -81,12 +81,7 @@ struct Reader {
 };
 
 SE3 pose(const Reader& r, const YAML::Node& n) {
-  const Vector3 xyz = r.vector3(n, "xyz", Vector3::Zero());
-  const Vector3 rpy = r.vector3(n, "rpy", Vector3::Zero());
-  return {(Eigen::AngleAxisd(rpy[2], Vector3::UnitZ()) * Eigen::AngleAxisd(rpy[1], Vector3::UnitY()) *
-           Eigen::AngleAxisd(rpy[0], Vector3::UnitX()))
-              .toRotationMatrix(),
-          xyz};
+  return fromXyzRpy(r.vector3(n, "xyz", Vector3::Zero()), r.vector3(n, "rpy", Vector3::Zero()));
 }
 
 std::string join(const std::string& dir, const std::string& path) {
