@@ -59,7 +59,7 @@ void closestOnCylinder(double radius, double half_length, const Vector3& c, Vect
 TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector3& tip_center, double tip_radius) {
   TipContact out;
   const Vector3 c = pose.R.transpose() * (tip_center - pose.p);  // tip in the shape frame
-  Vector3 surface, normal;
+  Vector3 surface = Vector3::Zero(), normal = Vector3::UnitZ();
   bool inside = false;
   switch (shape.kind) {
     case CollisionShape::Kind::Box:
