@@ -16,6 +16,7 @@ int usage(const char* why) {
   std::fprintf(stderr,
                "usage: igms-server --scene FILE [--lcm-url URL] [--clock realtime|lockstep] [--duration S]\n"
                "                   [--save-edited FILE] [--session-token N] [--paused] [--quiet]\n"
+               "                   [--fault-drop FRACTION] [--fault-burst-ms MS] [--fault-delay-us US]\n"
                "Run it inside scripts/netns_run.sh when the URL is udpm:// (the default).\n");
   return 2;
 }
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
     else if (a == "--session-token") o.session_token = std::atoll(value().c_str());
     else if (a == "--paused") o.start_paused = true;
     else if (a == "--quiet") o.quiet = true;
+    else if (a == "--fault-drop") o.fault_drop = std::atof(value().c_str());
+    else if (a == "--fault-burst-ms") o.fault_burst_ms = std::atof(value().c_str());
+    else if (a == "--fault-delay-us") o.fault_delay_us = std::atof(value().c_str());
     else if (a == "-h" || a == "--help") { usage(nullptr); return 0; }
     else return usage(("unknown argument " + a).c_str());
   }

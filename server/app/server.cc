@@ -3,6 +3,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -193,12 +194,25 @@ class Publisher {
       msg_.in_collision = false;
     }
     msg_.step_us = s.step_us;
-    // Encode into our buffer, publish raw bytes.
+    // Encode into our buffer, publish raw bytes (unless a fault drops it).
     const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-    if (n > 0) bus_.publish(channels::kRobotState, buffer_.data(), static_cast<unsigned>(n));
+    if (n > 0 && !faultDrops()) {
+      if (options_.fault_delay_us > 0)
+        std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(options_.fault_delay_us)));
+      bus_.publish(channels::kRobotState, buffer_.data(), static_cast<unsigned>(n));
+    }
     last_sim_time_ = s.sim_time;
     step_times_.push_back(s.step_us);
     ++window_steps_;
+  }
+
+  bool faultDrops() {
+    if (options_.fault_drop > 0 && uniform_(rng_) < options_.fault_drop) return true;
+    if (options_.fault_burst_ms > 0) {
+      const double phase = std::fmod(monotonic() - fault_epoch_, 1.0);
+      if (phase < options_.fault_burst_ms * 1e-3) return true;
+    }
+    return false;
   }
 
   void loop() {
@@ -234,6 +248,9 @@ class Publisher {
   double window_start_ = 0.0, last_sim_time_ = 0.0;
   std::atomic<bool> done_{false};
   std::thread thread_;
+  std::mt19937 rng_{12345};
+  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
+  double fault_epoch_ = monotonic();
 };
 
 // The bus thread's handlers.

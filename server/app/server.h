@@ -22,6 +22,10 @@ struct ServerOptions {
   bool start_paused = false;
   double input_hold = 0.05;     // s: an input keeps acting this long without a newer one
   bool quiet = false;
+  // Fault injection on the published states (tests of the client's fallback):
+  double fault_drop = 0.0;       // fraction of states not published
+  double fault_burst_ms = 0.0;   // every second, no states for this long
+  double fault_delay_us = 0.0;   // every state published this much later
 };
 
 // Runs until stopped (stop flag, SHUTDOWN command, duration, or divergence).

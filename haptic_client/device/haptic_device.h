@@ -1,0 +1,41 @@
+// A haptic device as the servo loop sees it: read the tip, write a force.
+// Real drivers (a PHANToM through OpenHaptics, a Force Dimension device
+// through its SDK, CHAI3D) implement this interface in a file of their own,
+// behind a CMake option that is off by default; see README "Adding a device".
+#pragma once
+
+#include <string>
+
+#include "server/model/spatial.h"
+
+namespace igms {
+
+struct DeviceLimits {
+  double max_force = 3.3;          // N (a PHANToM Omni's peak)
+  double max_stiffness = 800.0;    // N/m the device can render stably
+  Vector3 workspace_min = Vector3(-0.08, -0.06, -0.035);  // m, device frame
+  Vector3 workspace_max = Vector3(0.08, 0.06, 0.035);
+};
+
+struct DeviceReading {
+  Vector3 position = Vector3::Zero();  // tip, device frame, m
+  Vector3 velocity = Vector3::Zero();  // m/s
+  bool has_orientation = false;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  int buttons = 0;                     // bit 0: the main button
+};
+
+class HapticDevice {
+ public:
+  virtual ~HapticDevice() = default;
+  virtual std::string name() const = 0;
+  virtual DeviceLimits limits() const = 0;
+  // The tip at time t (s since the loop started). Must not block or allocate.
+  virtual DeviceReading read(double t) = 0;
+  // The force to render now, device frame, N (already clamped to limits()).
+  virtual void write(const Vector3& force) = 0;
+  // True when a scripted device has played its whole script.
+  virtual bool finished(double /*t*/) const { return false; }
+};
+
+}  // namespace igms

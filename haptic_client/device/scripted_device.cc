@@ -1,0 +1,112 @@
+#include "haptic_client/device/scripted_device.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace igms {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const YAML::Node& n, const std::string& what) {
+  throw std::runtime_error(path + ":" + std::to_string(n.Mark().line + 1) + ": " + what);
+}
+
+Vector3 vec3(const std::string& path, const YAML::Node& n, const char* key) {
+  const YAML::Node v = n[key];
+  if (!v || !v.IsSequence() || v.size() != 3) fail(path, n, std::string(key) + ": expected 3 numbers");
+  return Vector3(v[0].as<double>(), v[1].as<double>(), v[2].as<double>());
+}
+
+}  // namespace
+
+ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose)
+    : path_(path), map_(map), link_pose_(std::move(link_pose)) {
+  // Until a link-relative first target is known, the tip rests at the workspace centre.
+  last_position_ = Vector3::Zero();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  frame_scene_ = root["frame"] ? root["frame"].as<std::string>() != "device" : true;
+  if (frame_scene_) last_position_ = map_.offset;
+  if (const YAML::Node h = root["hand"]) {
+    hand_ = true;
+    hand_mass_ = h["mass"] ? h["mass"].as<double>() : hand_mass_;
+    hand_k_ = h["k"] ? h["k"].as<double>() : hand_k_;
+    hand_b_ = h["b"] ? h["b"].as<double>() : hand_b_;
+    if (!(hand_mass_ > 0 && hand_k_ > 0 && hand_b_ >= 0)) fail(path, h, "hand: mass and k must be positive");
+  }
+  const YAML::Node w = root["waypoints"];
+  if (!w || !w.IsSequence() || w.size() == 0) fail(path, root, "waypoints: expected a list");
+  for (const auto& p : w) {
+    Waypoint wp;
+    if (!p["t"]) fail(path, p, "waypoint without t");
+    wp.t = p["t"].as<double>();
+    if (p["link"]) {
+      wp.link = p["link"].as<std::string>();
+      wp.xyz = p["offset"] ? vec3(path, p, "offset") : Vector3::Zero();
+      wp.point = p["point"] ? vec3(path, p, "point") : Vector3::Zero();
+    } else {
+      wp.xyz = vec3(path, p, "xyz");
+      wp.resolved = true;
+    }
+    if (!waypoints_.empty() && !(wp.t > waypoints_.back().t)) fail(path, p, "waypoint times must increase");
+    waypoints_.push_back(wp);
+  }
+  if (const YAML::Node b = root["buttons"])
+    for (const auto& e : b) buttons_.emplace_back(e["t"].as<double>(), e["down"].as<bool>());
+  end_ = root["end"] ? root["end"].as<double>() : waypoints_.back().t;
+}
+
+Vector3 ScriptedDevice::target(double t) {
+  // Link-relative waypoints take the link's position when the script reaches
+  // the segment leading to them, and keep it (the push then follows the script).
+  for (size_t k = 0; k < waypoints_.size(); ++k) {
+    Waypoint& w = waypoints_[k];
+    const double segment_start = k > 0 ? waypoints_[k - 1].t : w.t;
+    if (w.resolved || t < segment_start) continue;
+    SE3 X;
+    if (!link_pose_ || !link_pose_(w.link, &X)) continue;
+    const Vector3 p = X.act(w.point);
+    w.xyz = (frame_scene_ ? p : map_.toDevice(p)) + w.xyz;
+    w.resolved = true;
+  }
+  auto at = [&](const Waypoint& w) { return w.resolved ? w.xyz : last_position_; };
+  if (t <= waypoints_.front().t) return at(waypoints_.front());
+  for (size_t k = 1; k < waypoints_.size(); ++k) {
+    if (t > waypoints_[k].t) continue;
+    const double u = (t - waypoints_[k - 1].t) / (waypoints_[k].t - waypoints_[k - 1].t);
+    const double s = u * u * (3.0 - 2.0 * u);  // smooth start and stop
+    return at(waypoints_[k - 1]) + s * (at(waypoints_[k]) - at(waypoints_[k - 1]));
+  }
+  return at(waypoints_.back());
+}
+
+DeviceReading ScriptedDevice::read(double t) {
+  DeviceReading r;
+  const Vector3 goal = frame_scene_ ? map_.toDevice(target(t)) : target(t);
+  if (!hand_) {
+    r.position = goal;
+    r.velocity = last_t_ >= 0 && t > last_t_ ? Vector3((goal - last_device_) / (t - last_t_)) : Vector3::Zero();
+  } else {
+    if (last_t_ < 0) hand_x_ = goal;
+    const double dt = last_t_ >= 0 ? std::min(0.01, t - last_t_) : 0.0;
+    // The hand: m xdd = k (goal - x) - b xd + F_rendered (semi-implicit Euler; k h^2/m << 1).
+    const Vector3 a = (hand_k_ * (goal - hand_x_) - hand_b_ * hand_v_ + force_) / hand_mass_;
+    hand_v_ += dt * a;
+    hand_x_ += dt * hand_v_;
+    r.position = hand_x_;
+    r.velocity = hand_v_;
+  }
+  for (const auto& [bt, down] : buttons_)
+    if (t >= bt) r.buttons = down ? 1 : 0;
+  last_t_ = t;
+  last_device_ = r.position;
+  last_position_ = frame_scene_ ? map_.toScene(r.position) : r.position;
+  return r;
+}
+
+}  // namespace igms

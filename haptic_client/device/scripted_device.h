@@ -1,0 +1,79 @@
+// A scripted device: timed tip targets and button events from a YAML file,
+// deterministic, for tests, the demo and the paper's scenarios.
+//
+//   frame: scene            # targets in scene coordinates (or: device)
+//   hand: {mass: 0.3, k: 400, b: 25}   # optional simulated hand (see below)
+//   waypoints:
+//     - {t: 0.0, xyz: [0.4, 0.0, 0.5]}
+//     - {t: 0.6, link: link3, point: [0.02, 0.22, 0.15], offset: [0, 0, 0.07]}
+//                           # a point of a link (link frame) plus a world offset,
+//                           # read from the client's estimate when the segment to it starts
+//     - {t: 0.9, link: link3, point: [0.02, 0.22, 0.15], offset: [0, 0, 0.04]}   # push 3 cm
+//   buttons:
+//     - {t: 2.0, down: true}
+//     - {t: 4.0, down: false}
+//   end: 6.0                # s
+//
+// The tip moves between waypoints with a smooth (C1) blend. With `hand`, the
+// scripted target drives a mass-spring-damper "hand" that also feels the
+// rendered force, so force feedback changes the motion as with a person;
+// without it the tip follows the script exactly.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "haptic_client/device/haptic_device.h"
+
+namespace igms {
+
+struct WorkspaceMap {
+  double scale = 1.0;                  // scene = offset + scale * device
+  Vector3 offset = Vector3::Zero();
+  Vector3 toScene(const Vector3& d) const { return offset + scale * d; }
+  Vector3 toDevice(const Vector3& s) const { return (s - offset) / scale; }
+};
+
+class ScriptedDevice : public HapticDevice {
+ public:
+  // link_pose(name, &X): the client's current estimate of a link's pose in
+  // the scene (false when unknown).
+  using LinkLookup = std::function<bool(const std::string&, SE3*)>;
+
+  ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose);
+  std::string name() const override { return "scripted:" + path_; }
+  DeviceLimits limits() const override { return limits_; }
+  DeviceReading read(double t) override;
+  void write(const Vector3& force) override { force_ = force; }
+  bool finished(double t) const override { return t >= end_; }
+  double endTime() const { return end_; }
+
+ private:
+  struct Waypoint {
+    double t;
+    Vector3 xyz;         // scene or device, per frame_scene_
+    std::string link;    // when set, the target is the link's point plus xyz (world)
+    Vector3 point = Vector3::Zero();  // in the link frame
+    bool resolved = false;
+  };
+  Vector3 target(double t);
+  std::string path_;
+  WorkspaceMap map_;
+  LinkLookup link_pose_;
+  bool frame_scene_ = true;
+  std::vector<Waypoint> waypoints_;
+  std::vector<std::pair<double, bool>> buttons_;
+  double end_ = 0.0;
+  DeviceLimits limits_;
+  Vector3 force_ = Vector3::Zero();
+  // Simulated hand.
+  bool hand_ = false;
+  double hand_mass_ = 0.3, hand_k_ = 400.0, hand_b_ = 25.0;
+  Vector3 hand_x_ = Vector3::Zero(), hand_v_ = Vector3::Zero();
+  double last_t_ = -1.0;
+  Vector3 last_position_;         // script frame; starts at the workspace centre
+  Vector3 last_device_ = Vector3::Zero();  // device frame, for the velocity
+};
+
+}  // namespace igms

@@ -1,0 +1,406 @@
+#include "haptic_client/servo/haptic_client.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "channels.h"
+#include "haptic_client/device/scripted_device.h"
+#include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/state_estimate.h"
+#include "igms/client_status_t.hpp"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+#include "server/interaction/pull.h"
+#include "server/interaction/push.h"
+#include "server/model/model_loader.h"
+#include "server/scene/scene.h"
+#include "server/transport/triple_buffer.h"
+
+namespace igms {
+namespace {
+
+double monotonic() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+int64_t nowUs() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+struct Received {
+  RobotSample sample;
+  double received = 0.0;  // monotonic s
+};
+
+// Samples of one statistic, written by the servo loop, read by the status thread.
+class SampleRing {
+ public:
+  void push(double x) {
+    const uint64_t i = n_.load(std::memory_order_relaxed);
+    v_[i % v_.size()].store(x, std::memory_order_relaxed);
+    n_.store(i + 1, std::memory_order_release);
+  }
+  // p50, p99, max of the samples since the last call.
+  std::array<double, 3> drain() {
+    const uint64_t n = n_.load(std::memory_order_acquire);
+    const uint64_t from = std::max(read_, n > v_.size() ? n - v_.size() : 0);
+    std::vector<double> s;
+    for (uint64_t i = from; i < n; ++i) s.push_back(v_[i % v_.size()].load(std::memory_order_relaxed));
+    read_ = n;
+    if (s.empty()) return {0, 0, 0};
+    std::sort(s.begin(), s.end());
+    return {s[s.size() / 2], s[std::min(s.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(s.size())))],
+            s.back()};
+  }
+
+ private:
+  std::array<std::atomic<double>, 4096> v_{};
+  std::atomic<uint64_t> n_{0};
+  uint64_t read_ = 0;
+};
+
+struct Stats {
+  std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0};
+  std::atomic<double> state_age_ms{0}, force_scale{1}, max_force_step{0};
+  std::atomic<int> mode{0};
+  std::atomic<double> force[3] = {0, 0, 0};
+  std::atomic<bool> lost{false}, finished{false};
+  SampleRing jitter, rtt;
+};
+
+class Bus {
+ public:
+  Bus(const std::string& url, Received initial) : lcm_(url), states_(initial) {}
+  bool good() { return lcm_.good(); }
+  lcm::LCM& lcm() { return lcm_; }
+
+  void onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m) {
+    Received& r = states_.back();
+    RobotSample& s = r.sample;
+    if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size()) return;
+    s.seq = m->seq;
+    s.input_seq = m->input_seq;
+    s.sim_time = m->sim_time;
+    for (size_t k = 0; k < s.links.size(); ++k) {
+      const auto& p = m->link_poses[k];
+      s.links[k].p = Vector3(p[0], p[1], p[2]);
+      s.links[k].R = Eigen::Quaterniond(p[3], p[4], p[5], p[6]).normalized().toRotationMatrix();
+    }
+    std::copy(m->q.begin(), m->q.end(), s.q.begin());
+    r.received = monotonic();
+    states_.publish();
+  }
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m) {
+    token_ = m->session_token;
+    have_token_ = true;
+    link_names_ = m->link_names;
+  }
+
+  TripleBuffer<Received>& states() { return states_; }
+  std::atomic<int64_t> token_{0};
+  std::atomic<bool> have_token_{false};
+  std::vector<std::string> link_names_;
+
+ private:
+  lcm::LCM lcm_;
+  TripleBuffer<Received> states_;
+};
+
+}  // namespace
+
+int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
+  Scene scene;
+  std::unique_ptr<Model> model;
+  FallbackPolicy policy;
+  try {
+    scene = loadScene(o.scene_path);
+    model = std::make_unique<Model>(loadModel(scene.model_path, scene.build));
+    if (!parseFallback(o.fallback, &policy)) throw std::runtime_error("--fallback is hold, extrapolate or interpolate");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-haptic: %s\n", e.what());
+    return 2;
+  }
+  const int nlinks = static_cast<int>(model->frames.size());
+  Received initial;
+  initial.sample.links.assign(static_cast<size_t>(nlinks), SE3::Identity());
+  initial.sample.q.assign(static_cast<size_t>(model->nq), 0.0);
+  Bus bus(o.lcm_url.empty() ? channels::kDefaultUrl : o.lcm_url, initial);
+  if (!bus.good()) {
+    std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
+    return 2;
+  }
+  bus.lcm().subscribe(channels::kRobotState, &Bus::onState, &bus)->setQueueCapacity(100);
+  bus.lcm().subscribe(channels::kServerStatus, &Bus::onStatus, &bus);
+
+  // The estimate, shared by the device script (link lookups) and the loop.
+  StateEstimate estimate(nlinks, model->nq, policy);
+  std::vector<SE3> links(static_cast<size_t>(nlinks), SE3::Identity());
+  WorkspaceMap map{scene.workspace_scale, scene.workspace_offset};
+  std::unique_ptr<HapticDevice> device;
+  try {
+    if (o.device.rfind("scripted:", 0) != 0) throw std::runtime_error("--device must be scripted:FILE (no real device driver is built)");
+    device = std::make_unique<ScriptedDevice>(o.device.substr(9), map, [&](const std::string& name, SE3* X) {
+      const int f = model->frameIndex(name);
+      if (f < 0 || !estimate.any()) return false;
+      *X = links[static_cast<size_t>(f)];
+      return true;
+    });
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-haptic: %s\n", e.what());
+    return 2;
+  }
+
+  // Bus thread: states, status in; client status out at 10 Hz.
+  Stats stats;
+  std::atomic<bool> bus_stop{false};
+  std::thread bus_thread([&] {
+    double next_status = monotonic() + 0.1;
+    int64_t seq = 0, last_cycles = 0;
+    double last_t = monotonic();
+    while (!bus_stop) {
+      bus.lcm().handleTimeout(5);
+      const double now = monotonic();
+      if (now < next_status) continue;
+      next_status += 0.1;
+      client_status_t s;
+      s.utime = nowUs();
+      s.seq = seq++;
+      s.client_id = o.client_id;
+      s.device = device->name();
+      s.fallback = fallbackName(policy);
+      s.state = stats.finished ? "finished" : stats.lost ? "server_lost" : "running";
+      s.cycles = stats.cycles;
+      s.rate_hz = static_cast<double>(s.cycles - last_cycles) / (now - last_t);
+      last_cycles = s.cycles;
+      last_t = now;
+      const auto j = stats.jitter.drain(), r = stats.rtt.drain();
+      s.jitter_us_p50 = j[0]; s.jitter_us_p99 = j[1]; s.jitter_us_max = j[2];
+      s.rtt_us_p50 = r[0]; s.rtt_us_p99 = r[1]; s.rtt_us_max = r[2];
+      s.deadline_misses = stats.misses;
+      s.max_consecutive_misses = stats.max_consecutive;
+      s.fallbacks = stats.fallbacks;
+      s.late_replies = stats.late;
+      s.state_age_ms = stats.state_age_ms;
+      s.force_scale = stats.force_scale;
+      s.max_force_step = stats.max_force_step;
+      s.mode = static_cast<int8_t>(stats.mode.load());
+      for (int k = 0; k < 3; ++k) s.rendered_force[k] = stats.force[k];
+      bus.lcm().publish(channels::kClientStatus, &s);
+    }
+  });
+  auto finish = [&](int code) {
+    bus_stop = true;
+    bus_thread.join();
+    return code;
+  };
+
+  // Wait for the server (its session token and link order).
+  const double t_connect = monotonic();
+  while (!bus.have_token_ && !stop) {
+    if (monotonic() - t_connect > o.connect_timeout) {
+      std::fprintf(stderr, "igms-haptic: no server status on the bus within %.0f s\n", o.connect_timeout);
+      return finish(3);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (bus.link_names_.size() != model->frames.size()) {
+    std::fprintf(stderr, "igms-haptic: the server's model has %zu links, the scene's %zu: not the same scene?\n",
+                 bus.link_names_.size(), model->frames.size());
+    return finish(2);
+  }
+  if (!o.quiet)
+    std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
+                 o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
+
+  const int pull_frame = model->frameIndex(scene.pull.link.empty() ? model->frames.back().name : scene.pull.link);
+  const double period = 1.0 / o.rate_hz;
+  const double sim_dt = scene.dt;
+  lcm::LCM& lcm = bus.lcm();
+  haptic_input_t msg{};
+  msg.client_id = o.client_id;
+  msg.tip_radius = scene.push.tip_radius;
+  StartupGuard guard;
+  LossRamp ramp;
+  ResyncBlend blend;
+  Vector3 last_force = Vector3::Zero(), last_attach = Vector3::Zero(), attach_velocity = Vector3::Zero();
+  double last_attach_time = -1.0;
+  bool pulling = false, push_engaged = false;
+  constexpr double kEngageDepth = 0.005;  // m
+  int64_t consecutive = 0;
+  double expected_time = 0.0;
+  const DeviceLimits limits = device->limits();
+  TipContact contact;
+  int contact_frame = -1;
+  std::vector<uint8_t> buffer(static_cast<size_t>(msg.getEncodedSize()) + 256);
+
+  const double start = monotonic();
+  timespec next;
+  clock_gettime(CLOCK_MONOTONIC, &next);
+  for (int64_t k = 1; !stop; ++k) {
+    const double t = static_cast<double>(k - 1) * period;
+    if ((o.duration > 0 && t >= o.duration) || (o.duration <= 0 && device->finished(t))) break;
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
+    const double cycle_start = monotonic();
+    stats.jitter.push(std::abs(cycle_start - (start + t)) * 1e6);
+
+    // 1. The device, mapped into the scene.
+    const DeviceReading reading = device->read(t);
+    const Vector3 tip = map.toScene(reading.position);
+    const Vector3 tip_velocity = map.scale * reading.velocity;
+    const bool button = reading.buttons & 1;
+
+    // 2. The input: pull while the button is held, push when the tip touches a link.
+    int8_t mode = haptic_input_t::MODE_NONE;
+    const bool was_pulling = pulling;
+    if (button && scene.pull.enabled && pull_frame >= 0) {
+      mode = haptic_input_t::MODE_PULL;
+      pulling = true;
+    } else {
+      pulling = false;
+      // Like the force, a push waits for the start-up guard: a tip that starts
+      // inside a link must leave it once before it can push.
+      if (scene.push.enabled && contact.touching && guard.armed()) mode = haptic_input_t::MODE_PUSH;
+    }
+    if (pulling != was_pulling) blend.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
+    msg.utime = nowUs();
+    msg.seq = k;
+    msg.session_token = bus.token_;
+    msg.mode = mode;
+    for (int i = 0; i < 3; ++i) {
+      msg.tip_position[i] = tip[i];
+      msg.tip_velocity[i] = tip_velocity[i];
+    }
+    msg.buttons = reading.buttons;
+    msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model->frames[static_cast<size_t>(contact_frame)].name : "";
+    msg.penetration = mode == haptic_input_t::MODE_PUSH ? contact.depth : 0.0;
+    if (mode == haptic_input_t::MODE_PUSH) {
+      const Vector3 local = links[static_cast<size_t>(contact_frame)].inverse().act(contact.point);
+      for (int i = 0; i < 3; ++i) {
+        msg.contact_point[i] = local[i];
+        msg.contact_normal[i] = contact.normal[i];
+      }
+    }
+    msg.attach_link = mode == haptic_input_t::MODE_PULL ? model->frames[static_cast<size_t>(pull_frame)].name : "";
+    for (int i = 0; i < 3; ++i) msg.attach_point[i] = scene.pull.point[i];
+    msg.last_state_seq = estimate.any() ? estimate.newest().seq : -1;
+    const int n = msg.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
+    const double sent = monotonic();
+    if (n > 0) lcm.publish(channels::kHapticInput, buffer.data(), static_cast<unsigned>(n));
+
+    // 3. This cycle's state, until the deadline.
+    bool on_time = false;
+    const double deadline = cycle_start + o.deadline_us * 1e-6;
+    for (;;) {
+      Received* r = nullptr;
+      if (bus.states().take(&r)) {
+        if (!estimate.offer(r->sample)) ++stats.late;
+        if (r->sample.input_seq >= k) {
+          on_time = true;
+          stats.rtt.push((r->received - sent) * 1e6);
+        }
+      }
+      if (on_time || monotonic() >= deadline) break;
+      timespec pause{0, 20000};
+      nanosleep(&pause, nullptr);
+    }
+    if (estimate.any()) {
+      // The reply to input k is the state one simulation step after the reply to k-1.
+      expected_time = on_time ? estimate.newest().sim_time : expected_time + sim_dt;
+      bool fallback = false;
+      estimate.estimate(expected_time, links, &fallback);
+      if (fallback) ++stats.fallbacks;
+    }
+    if (on_time) {
+      if (consecutive >= 3) blend.resync(10);  // back after a gap: 10 ms to the new force
+      consecutive = 0;
+    } else {
+      ++stats.misses;
+      stats.max_consecutive = std::max<int64_t>(stats.max_consecutive, ++consecutive);
+    }
+
+    // 4. The force against the estimate; render its reaction.
+    Vector3 on_user = Vector3::Zero();
+    contact = TipContact{};
+    contact_frame = -1;
+    if (estimate.any()) {
+      const Vector3 x = links[static_cast<size_t>(pull_frame)].act(scene.pull.point);
+      // The attachment's velocity from the estimate's own time base: a held
+      // (fallback) cycle must not read as "stopped" and the next as "twice as fast".
+      if (expected_time > last_attach_time + 1e-9) {
+        // Differenced positions are noisy: a first-order low-pass (10 ms), as haptic loops do.
+        const double dt_est = expected_time - last_attach_time;
+        const double alpha = last_attach_time < 0 ? 0.0 : dt_est / (0.01 + dt_est);
+        attach_velocity += alpha * ((x - last_attach) / dt_est - attach_velocity);
+        last_attach = x;
+        last_attach_time = expected_time;
+      }
+      if (pulling) {
+        const Vector3& xd = attach_velocity;
+        const PullForce f = pullForce(scene.pull.k, scene.pull.b, scene.pull.max_stretch, scene.pull.max_force, tip,
+                                      tip_velocity, x, xd);
+        on_user = -f.on_robot;
+      } else if (scene.push.enabled) {
+        for (size_t f = 0; f < model->frames.size(); ++f) {
+          if (model->frames[f].body < 0) continue;
+          for (const auto& shape : model->frames[f].collisions) {
+            const TipContact c = tipContact(shape, links[f] * shape.placement, tip, scene.push.tip_radius);
+            if (c.touching && c.depth > contact.depth) {
+              contact = c;
+              contact_frame = static_cast<int>(f);
+            }
+          }
+        }
+        // A push starts at the surface: contact engages only when it begins
+        // shallow, and lasts until the tip leaves. A tip that appears deep
+        // inside (a jump, or a pull released inside the wrist) pushes nothing.
+        push_engaged = contact.touching && (push_engaged || contact.depth < kEngageDepth);
+        if (!push_engaged) contact = TipContact{};
+        if (contact.touching) on_user = -pushForce(contact, scene.push.k_p, scene.push.max_force).on_link;
+      }
+    }
+    // Lost: no state for lost_ms; the force ramps down, and back up when states return.
+    const bool lost = estimate.any() && static_cast<double>(consecutive) * period * 1e3 > o.lost_ms;
+    stats.lost = lost;
+    const double scale = ramp.update(lost, period);
+    const Vector3 rendered =
+        clampMagnitude(blend.apply(guard.apply(on_user) * scale, last_force), limits.max_force);
+    device->write(rendered);  // scene axes = device axes (the mapping scales positions only)
+    stats.max_force_step = std::max(stats.max_force_step.load(), (rendered - last_force).norm());
+    last_force = rendered;
+    stats.force_scale = scale;
+    stats.mode = mode;
+    for (int i = 0; i < 3; ++i) stats.force[i] = rendered[i];
+    stats.state_age_ms = static_cast<double>(consecutive) * period * 1e3;
+    ++stats.cycles;
+
+    next.tv_nsec += static_cast<long>(period * 1e9);
+    while (next.tv_nsec >= 1000000000L) {
+      next.tv_nsec -= 1000000000L;
+      ++next.tv_sec;
+    }
+  }
+  stats.finished = true;
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
+  if (!o.quiet)
+    std::fprintf(stderr,
+                 "igms-haptic: %lld cycles, %lld deadline misses (max %lld in a row), %lld fallbacks, %lld late "
+                 "replies, max force step %.3f N\n",
+                 static_cast<long long>(stats.cycles.load()), static_cast<long long>(stats.misses.load()),
+                 static_cast<long long>(stats.max_consecutive.load()), static_cast<long long>(stats.fallbacks.load()),
+                 static_cast<long long>(stats.late.load()), stats.max_force_step.load());
+  return finish(0);
+}
+
+}  // namespace igms

@@ -1,0 +1,184 @@
+// igms-server (lockstep) + igms-haptic (scripted device) as two processes on
+// udpm inside the private namespace: a push moves the touched link away, a
+// pull brings the end-effector to the held point, and under lost, bursty and
+// stalled replies the client keeps its rate with a continuous force.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <mutex>
+#include <thread>
+
+#include "channels.h"
+#include "igms/client_status_t.hpp"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "server/loop/simulation.h"
+#include "tests/support/child_process.h"
+#include "tests/support/test_models.h"
+
+namespace igms::test {
+namespace {
+
+std::string url() { return std::string("udpm://239.255.76.67:") + std::getenv("IGMS_TEST_PORT") + "?ttl=0"; }
+
+// The largest single step of the rendered force we accept, N. The loss-free
+// push demo's largest step is about 0.3 N.
+constexpr double kMaxForceStep = 1.0;
+
+struct Session {
+  std::vector<robot_state_t> states;
+  client_status_t last_status;
+  bool saw_server_lost = false;
+  double min_force_scale = 1.0;
+  int client_exit = -1;
+};
+
+class Recorder {
+ public:
+  Recorder() : bus_(url()) {
+    bus_.subscribe(channels::kRobotState, &Recorder::onState, this)->setQueueCapacity(10000);
+    bus_.subscribe(channels::kClientStatus, &Recorder::onStatus, this);
+    thread_ = std::thread([this] {
+      while (!stop_) bus_.handleTimeout(10);
+    });
+  }
+  ~Recorder() {
+    stop_ = true;
+    thread_.join();
+  }
+  void onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m) {
+    std::lock_guard<std::mutex> l(mutex);
+    session.states.push_back(*m);
+  }
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const client_status_t* m) {
+    std::lock_guard<std::mutex> l(mutex);
+    session.last_status = *m;
+    session.saw_server_lost |= m->state == "server_lost";
+    session.min_force_scale = std::min(session.min_force_scale, m->force_scale);
+  }
+  std::mutex mutex;
+  Session session;
+
+ private:
+  lcm::LCM bus_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+Session run(const std::string& script, std::vector<std::string> server_extra = {}, bool stall = false) {
+  Recorder recorder;
+  std::vector<std::string> server_args{std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/puma_wall.yaml",
+                                       "--lcm-url", url(), "--clock", "lockstep", "--quiet"};
+  server_args.insert(server_args.end(), server_extra.begin(), server_extra.end());
+  ChildProcess server(server_args);
+  ChildProcess client({std::getenv("IGMS_CLIENT_BIN"), "--scene", sourceDir() + "/scenes/puma_wall.yaml", "--device",
+                       "scripted:" + sourceDir() + "/scenes/" + script, "--lcm-url", url(), "--quiet"});
+  if (stall) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    kill(server.pid(), SIGSTOP);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    kill(server.pid(), SIGCONT);
+  }
+  Session out;
+  out.client_exit = client.wait(std::chrono::seconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  server.stop();
+  std::lock_guard<std::mutex> l(recorder.mutex);
+  out.states = recorder.session.states;
+  out.last_status = recorder.session.last_status;
+  out.saw_server_lost = recorder.session.saw_server_lost;
+  out.min_force_scale = recorder.session.min_force_scale;
+  return out;
+}
+
+double maxForce(const Session& s, int8_t mode) {
+  double m = 0.0;
+  for (const auto& st : s.states)
+    if (st.mode == mode)
+      m = std::max(m, std::sqrt(st.interaction_force[0] * st.interaction_force[0] +
+                                st.interaction_force[1] * st.interaction_force[1] +
+                                st.interaction_force[2] * st.interaction_force[2]));
+  return m;
+}
+
+void expectRateKept(const Session& s, const char* what) {
+  EXPECT_EQ(s.client_exit, 0) << what;
+  EXPECT_GE(s.last_status.cycles, 2490) << what << ": the client ran its whole script";
+  EXPECT_LE(s.last_status.max_force_step, kMaxForceStep) << what << ": the rendered force stayed continuous";
+  std::printf("%-28s cycles %lld  misses %lld (max %lld in a row)  fallbacks %lld  rtt p50/p99 %.0f/%.0f us  "
+              "max force step %.3f N\n",
+              what, static_cast<long long>(s.last_status.cycles), static_cast<long long>(s.last_status.deadline_misses),
+              static_cast<long long>(s.last_status.max_consecutive_misses),
+              static_cast<long long>(s.last_status.fallbacks), s.last_status.rtt_us_p50, s.last_status.rtt_us_p99,
+              s.last_status.max_force_step);
+}
+
+TEST(Client, PushMovesTheTouchedLinkOffItsPath) {
+  const Session s = run("push_demo.yaml");
+  expectRateKept(s, "push, no faults");
+  ASSERT_FALSE(s.states.empty());
+  EXPECT_GT(maxForce(s, haptic_input_t::MODE_PUSH), 1.0) << "the tip pressed on the robot";
+  // Against the in-process nominal run at the same simulated time.
+  const robot_state_t& last = s.states.back();
+  Simulation nominal(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  InteractionInput none;
+  while (nominal.time() < last.sim_time - 1e-9) nominal.step(&none);
+  double diff = 0.0;
+  for (int j = 0; j < 6; ++j) diff = std::max(diff, std::abs(last.q[j] - nominal.q()[j]));
+  EXPECT_GT(diff, 0.005) << "the push edited the trajectory";
+  EXPECT_LT(s.last_status.deadline_misses, 0.05 * s.last_status.cycles);
+}
+
+TEST(Client, PullBringsTheEndEffectorToTheHeldDevicePoint) {
+  const Session s = run("pull_demo.yaml");
+  expectRateKept(s, "pull, no faults");
+  EXPECT_GT(maxForce(s, haptic_input_t::MODE_PULL), 0.5);
+  // While the device holds still (1.6 s to 2.4 s), |F| = k |x_ph - x|: the spring's stretch.
+  double worst = 0.0;
+  int n = 0;
+  for (const auto& st : s.states) {
+    if (st.mode != haptic_input_t::MODE_PULL || st.sim_time < 1.6 || st.sim_time > 2.4) continue;
+    const double f = std::sqrt(st.interaction_force[0] * st.interaction_force[0] +
+                               st.interaction_force[1] * st.interaction_force[1] +
+                               st.interaction_force[2] * st.interaction_force[2]);
+    worst = std::max(worst, f / 800.0);  // k of scenes/puma_wall.yaml
+    ++n;
+  }
+  EXPECT_GT(n, 500);
+  EXPECT_LE(worst, 5e-3) << "end-effector within 5 mm of the held point";
+}
+
+TEST(Client, KeepsItsRateAndAContinuousForceWhenRepliesAreLost) {
+  const Session clean = run("push_demo.yaml");
+  for (const auto& [what, args] : std::vector<std::pair<const char*, std::vector<std::string>>>{
+           {"10% of replies dropped", {"--fault-drop", "0.1"}},
+           {"30% of replies dropped", {"--fault-drop", "0.3"}},
+           {"20 ms bursts every second", {"--fault-burst-ms", "20"}}}) {
+    const Session s = run("push_demo.yaml", args);
+    expectRateKept(s, what);
+    EXPECT_GT(s.last_status.fallbacks, 0) << what;
+    // How far the edited trajectory moved from the loss-free run's.
+    if (!s.states.empty() && !clean.states.empty()) {
+      double d = 0.0;
+      for (int j = 0; j < 6; ++j) d = std::max(d, std::abs(s.states.back().q[j] - clean.states.back().q[j]));
+      std::printf("%-28s final joint deviation from the loss-free run: %.4f rad\n", what, d);
+    }
+  }
+}
+
+TEST(Client, StalledServerRampsTheForceDownAndTheClientResumes) {
+  const Session s = run("push_demo.yaml", {}, /*stall=*/true);
+  expectRateKept(s, "server stopped 300 ms");
+  EXPECT_TRUE(s.saw_server_lost);
+  EXPECT_LT(s.min_force_scale, 0.01) << "the force ramped down to zero";
+  EXPECT_EQ(s.last_status.state, "finished");
+  EXPECT_GE(s.last_status.max_consecutive_misses, 100);
+}
+
+}  // namespace
+}  // namespace igms::test
