@@ -1,0 +1,157 @@
+// The client's logic on synthetic replies: each fallback policy when replies
+// are late or lost, late and out-of-order replies discarded by seq, the
+// start-up guard, the server-lost ramp, the resync blend, the scripted device.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "haptic_client/device/scripted_device.h"
+#include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/state_estimate.h"
+
+namespace igms {
+namespace {
+
+// One link moving along x at 1 m/s: the state for sim time t.
+RobotSample sample(int64_t seq, double t) {
+  RobotSample s;
+  s.seq = seq;
+  s.input_seq = seq;
+  s.sim_time = t;
+  s.links.assign(1, SE3::Identity());
+  s.links[0].p = Vector3(t, 0, 0);
+  s.links[0].R = Eigen::AngleAxisd(2.0 * t, Vector3::UnitZ()).toRotationMatrix();  // 2 rad/s
+  s.q.assign(1, t);
+  return s;
+}
+
+double x(const std::vector<SE3>& l) { return l[0].p.x(); }
+
+TEST(StateEstimate, HoldKeepsTheNewestStateWhenTheReplyIsLate) {
+  StateEstimate e(1, 1, FallbackPolicy::Hold);
+  std::vector<SE3> links(1);
+  bool fallback = true;
+  EXPECT_FALSE(e.estimate(0.0, links, &fallback)) << "nothing before the first state";
+  e.offer(sample(1, 0.001));
+  e.offer(sample(2, 0.002));
+  ASSERT_TRUE(e.estimate(0.002, links, &fallback));
+  EXPECT_FALSE(fallback);
+  EXPECT_DOUBLE_EQ(x(links), 0.002);
+  ASSERT_TRUE(e.estimate(0.005, links, &fallback));  // three replies lost
+  EXPECT_TRUE(fallback);
+  EXPECT_DOUBLE_EQ(x(links), 0.002);
+}
+
+TEST(StateEstimate, ExtrapolateContinuesAtConstantVelocityAndIsBounded) {
+  StateEstimate e(1, 1, FallbackPolicy::Extrapolate);
+  std::vector<SE3> links(1);
+  bool fallback = false;
+  e.offer(sample(1, 0.001));
+  e.offer(sample(2, 0.002));
+  ASSERT_TRUE(e.estimate(0.004, links, &fallback));
+  EXPECT_TRUE(fallback);
+  EXPECT_NEAR(x(links), 0.004, 1e-12);
+  const Eigen::AngleAxisd r(links[0].R);
+  EXPECT_NEAR(r.angle(), 0.008, 1e-9) << "orientation extrapolated too";
+  ASSERT_TRUE(e.estimate(1.0, links, &fallback));  // a long outage: at most 10 periods ahead
+  EXPECT_NEAR(x(links), 0.012, 1e-12);
+}
+
+TEST(StateEstimate, InterpolateRunsOnePeriodBehind) {
+  StateEstimate e(1, 1, FallbackPolicy::Interpolate);
+  std::vector<SE3> links(1);
+  bool fallback = false;
+  e.offer(sample(1, 0.001));
+  e.offer(sample(2, 0.002));
+  ASSERT_TRUE(e.estimate(0.002, links, &fallback));
+  EXPECT_FALSE(fallback);
+  EXPECT_NEAR(x(links), 0.001, 1e-12) << "one period behind even on time";
+  ASSERT_TRUE(e.estimate(0.0025, links, &fallback));
+  EXPECT_NEAR(x(links), 0.0015, 1e-12) << "between the last two";
+  ASSERT_TRUE(e.estimate(0.010, links, &fallback));
+  EXPECT_NEAR(x(links), 0.002, 1e-12) << "never beyond the newest";
+}
+
+TEST(StateEstimate, LateAndOutOfOrderRepliesAreDiscardedBySeq) {
+  StateEstimate e(1, 1, FallbackPolicy::Hold);
+  EXPECT_TRUE(e.offer(sample(5, 0.005)));
+  EXPECT_FALSE(e.offer(sample(4, 0.004)));
+  EXPECT_FALSE(e.offer(sample(5, 0.005)));
+  EXPECT_EQ(e.newest().seq, 5);
+  EXPECT_TRUE(e.offer(sample(7, 0.007)));
+}
+
+TEST(ForceRender, StartupGuardHoldsForcesOffUntilTheyAreFirstSmall) {
+  StartupGuard g(0.5);
+  EXPECT_EQ(g.apply(Vector3(5, 0, 0)), Vector3::Zero()) << "starting inside a link: no spike";
+  EXPECT_EQ(g.apply(Vector3(3, 0, 0)), Vector3::Zero());
+  EXPECT_EQ(g.apply(Vector3(0.1, 0, 0)), Vector3(0.1, 0, 0));
+  EXPECT_EQ(g.apply(Vector3(5, 0, 0)), Vector3(5, 0, 0)) << "armed for good";
+}
+
+TEST(ForceRender, LossRampGoesDownAndUpWithoutSteps) {
+  LossRamp r(0.1);
+  double last = r.scale(), worst = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    const double s = r.update(k >= 20 && k < 150, 1e-3);
+    worst = std::max(worst, std::abs(s - last));
+    last = s;
+    if (k == 130) {
+      EXPECT_EQ(s, 0.0) << "fully down while lost";
+    }
+  }
+  EXPECT_DOUBLE_EQ(last, 1.0) << "back up after the server returns";
+  EXPECT_LE(worst, 0.0100001) << "1 % per millisecond at most";
+}
+
+TEST(ForceRender, ResyncBlendSpreadsAJumpOverItsCycles) {
+  ResyncBlend b;
+  Vector3 last(0, 0, 0);
+  b.resync(10);
+  double worst = 0.0;
+  for (int k = 0; k < 12; ++k) {
+    const Vector3 f = b.apply(Vector3(2, 0, 0), last);
+    worst = std::max(worst, (f - last).norm());
+    last = f;
+  }
+  EXPECT_NEAR(last.x(), 2.0, 1e-12);
+  EXPECT_LE(worst, 0.2 + 1e-12);
+}
+
+std::string writeScript(const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/script.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ScriptedDevice, FollowsWaypointsSmoothlyAndPressesButtons) {
+  const std::string path = writeScript(
+      "frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [1, 0, 0]}\n  - {t: 1.0, xyz: [2, 0, 0]}\n"
+      "buttons:\n  - {t: 0.5, down: true}\nend: 1.5\n");
+  ScriptedDevice d(path, WorkspaceMap{2.0, Vector3(1, 0, 0)}, nullptr);
+  EXPECT_NEAR(d.read(0.0).position.x(), 0.0, 1e-12);  // scene 1 = offset: device 0
+  const DeviceReading mid = d.read(0.5);
+  EXPECT_NEAR(mid.position.x(), 0.25, 1e-12);  // halfway in the scene (1.5) is 0.25 on the device
+  EXPECT_EQ(mid.buttons, 1);
+  EXPECT_NEAR(d.read(1.0).position.x(), 0.5, 1e-12);
+  EXPECT_FALSE(d.finished(1.2));
+  EXPECT_TRUE(d.finished(1.5));
+}
+
+TEST(ScriptedDevice, SimulatedHandFeelsTheRenderedForce) {
+  const std::string path = writeScript(
+      "frame: device\nhand: {mass: 0.3, k: 400, b: 25}\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0]}\n"
+      "  - {t: 1.0, xyz: [0, 0, 0]}\n");
+  ScriptedDevice free_hand(path, WorkspaceMap{}, nullptr), pushed(path, WorkspaceMap{}, nullptr);
+  for (int k = 0; k <= 1000; ++k) {
+    free_hand.read(k * 1e-3);
+    pushed.write(Vector3(2.0, 0, 0));  // the rendered force pushes the hand
+    pushed.read(k * 1e-3);
+  }
+  EXPECT_NEAR(free_hand.read(1.0).position.x(), 0.0, 1e-12);
+  EXPECT_NEAR(pushed.read(1.0).position.x(), 2.0 / 400.0, 2e-4) << "the hand gives way by F / k";
+}
+
+}  // namespace
+}  // namespace igms
