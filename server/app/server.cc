@@ -1,11 +1,11 @@
 #include "server/app/server.h"
 
+#include <semaphore.h>
 #include <time.h>
 
 #include <algorithm>
 #include <cmath>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <deque>
 #include <lcm/lcm-cpp.hpp>
@@ -49,9 +49,11 @@ struct TimedInput {
 
 // Everything the bus thread shares with the simulation.
 struct Shared {
+  Shared() { sem_init(&input_ready, 0, 0); }
+  ~Shared() { sem_destroy(&input_ready); }
+  sem_t input_ready;  // posted per admitted input or command: lockstep wakes at once (no lock)
   LatestValue<TimedInput> input;
   std::mutex mutex;  // guards gate, commands (never taken by the step itself)
-  std::condition_variable wake;  // lockstep: a new input or command
   std::unique_ptr<InputGate> gate;
   std::deque<command_t> commands;
   std::atomic<int64_t> accepted{0};
@@ -79,11 +81,38 @@ class Publisher {
     components_ = sim.activeComponents();
   }
 
-  void start() { thread_ = std::thread([this] { loop(); }); }
+  // threaded: a publishing thread of its own (realtime); else the caller
+  // pumps (lockstep: one thread receives, steps and publishes).
+  void start(bool threaded) {
+    sem_init(&ready_, 0, 0);
+    if (threaded) thread_ = std::thread([this] { loop(); });
+    next_status_ = monotonic() + 0.1;
+    window_start_ = monotonic();
+  }
   void finish() {
     done_ = true;
+    sem_post(&ready_);
     if (thread_.joinable()) thread_.join();
+    pump();
+    sem_destroy(&ready_);
   }
+  // Publishes what the ring holds, and the status when due. Returns whether
+  // anything was published.
+  bool pump() {
+    bool any = false;
+    while (const Snapshot* s = ring_.beginRead()) {
+      publishState(*s);
+      ring_.endRead();
+      any = true;
+    }
+    if (monotonic() >= next_status_) {
+      publishStatus();
+      next_status_ += 0.1;
+    }
+    return any;
+  }
+  // The simulation thread's wake-up call after each snapshot (a futex post, no lock).
+  void notify() { sem_post(&ready_); }
 
   std::atomic<int64_t> ring_drops{0};
   std::atomic<int64_t> overruns{0};
@@ -216,21 +245,19 @@ class Publisher {
   }
 
   void loop() {
-    double next_status = monotonic() + 0.1;
-    window_start_ = monotonic();
     for (;;) {
-      bool any = false;
-      while (const Snapshot* s = ring_.beginRead()) {
-        publishState(*s);
-        ring_.endRead();
-        any = true;
-      }
-      if (monotonic() >= next_status) {
-        publishStatus();
-        next_status += 0.1;
-      }
+      const bool any = pump();
       if (done_ && !ring_.beginRead()) break;
-      if (!any) std::this_thread::sleep_for(std::chrono::microseconds(100));
+      if (!any) {
+        timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += 20000000L;  // wake for the status at least every 20 ms
+        if (until.tv_nsec >= 1000000000L) {
+          until.tv_nsec -= 1000000000L;
+          ++until.tv_sec;
+        }
+        sem_timedwait(&ready_, &until);
+      }
     }
   }
 
@@ -245,9 +272,10 @@ class Publisher {
   std::vector<std::string> link_names_, components_;
   std::vector<double> step_times_;
   int64_t status_seq_ = 0, window_steps_ = 0;
-  double window_start_ = 0.0, last_sim_time_ = 0.0;
+  double window_start_ = 0.0, last_sim_time_ = 0.0, next_status_ = 0.0;
   std::atomic<bool> done_{false};
   std::thread thread_;
+  sem_t ready_;
   std::mt19937 rng_{12345};
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
   double fault_epoch_ = monotonic();
@@ -271,14 +299,14 @@ class BusHandler {
     in.arrived = monotonic();
     shared_.input.write(in);
     ++shared_.accepted;
-    shared_.wake.notify_one();
+    sem_post(&shared_.input_ready);
   }
   void onCommand(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     command_t cmd;
     if (cmd.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) return;
     std::lock_guard<std::mutex> lock(shared_.mutex);
     shared_.commands.push_back(cmd);
-    shared_.wake.notify_one();
+    sem_post(&shared_.input_ready);
   }
 
  private:
@@ -303,10 +331,16 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
   BusHandler handler(shared);
   bus.subscribe(channels::kHapticInput, &BusHandler::onInput, &handler)->setQueueCapacity(1000);
   bus.subscribe(channels::kCommand, &BusHandler::onCommand, &handler)->setQueueCapacity(100);
+  // Realtime: a bus thread receives while the simulation keeps its deadlines.
+  // Lockstep: the simulation thread receives, steps and publishes itself:
+  // two thread hand-offs fewer on the round trip.
+  const bool lockstep = options.clock == ServerOptions::Clock::Lockstep;
   std::atomic<bool> bus_stop{false};
-  std::thread bus_thread([&] {
-    while (!bus_stop) bus.handleTimeout(20);
-  });
+  std::thread bus_thread;
+  if (!lockstep)
+    bus_thread = std::thread([&] {
+      while (!bus_stop) bus.handleTimeout(20);
+    });
   int64_t token = options.session_token ? options.session_token : randomToken();
   int exit_code = 0;
   bool reload = true;
@@ -336,11 +370,12 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     }
     SnapshotRing ring(sim->model(), 512);
     Publisher publisher(bus, *sim, ring, shared, options);
-    publisher.start();
+    publisher.start(!lockstep);
     auto publishSnapshot = [&](int32_t step_us) {
       if (Snapshot* slot = ring.beginWrite()) {
         takeSnapshot(*sim, nowUs(), step_us, *slot);
         ring.endWrite();
+        publisher.notify();
       } else {
         ++publisher.ring_drops;
       }
@@ -408,13 +443,12 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
       }
       if (!running) break;
 
-      const bool lockstep = options.clock == ServerOptions::Clock::Lockstep;
       bool do_step = !paused || steps_requested > 0;
       if (lockstep) {
-        // One step per new input (or STEP command); wait without spinning.
+        // One step per new input (or STEP command), received on this thread.
         if (shared.input.version() == consumed_version && steps_requested == 0) {
-          std::unique_lock<std::mutex> lock(shared.mutex);
-          shared.wake.wait_for(lock, std::chrono::milliseconds(50));
+          publisher.pump();  // the status, when due
+          bus.handleTimeout(20);
           continue;
         }
         do_step = true;
@@ -434,6 +468,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
         if (sim->outcome().clamped) ++publisher.forces_clamped;
         ++publisher.steps;
         publishSnapshot(step_us);
+        if (lockstep) publisher.pump();
         if (!ok) {
           std::fprintf(stderr, "igms-server: %s\n", sim->divergenceReport().c_str());
           setState("diverged", sim->divergenceReport());
@@ -485,7 +520,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     }
   }
   bus_stop = true;
-  bus_thread.join();
+  if (bus_thread.joinable()) bus_thread.join();
   return exit_code;
 }
 
