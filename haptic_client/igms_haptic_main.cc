@@ -16,7 +16,7 @@ void onSignal(int) { g_stop = true; }
 int usage(const char* why) {
   if (why) std::fprintf(stderr, "igms-haptic: %s\n", why);
   std::fprintf(stderr,
-               "usage: igms-haptic --scene FILE --device scripted:FILE [--lcm-url URL] [--rate HZ]\n"
+               "usage: igms-haptic --scene FILE --device scripted:FILE|replay:LOG [--lcm-url URL] [--rate HZ]\n"
                "                   [--deadline-us US] [--fallback hold|extrapolate|interpolate] [--lost-ms MS]\n"
                "                   [--client-id N] [--duration S] [--quiet]\n");
   return 2;

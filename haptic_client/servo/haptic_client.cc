@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "channels.h"
+#include "haptic_client/device/replay_device.h"
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/force_render.h"
 #include "haptic_client/servo/state_estimate.h"
@@ -176,8 +177,11 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   WorkspaceMap map{scene.workspace_scale, scene.workspace_offset};
   std::unique_ptr<HapticDevice> device;
   try {
-    if (o.device.rfind("scripted:", 0) != 0) throw std::runtime_error("--device must be scripted:FILE (no real device driver is built)");
-    device = std::make_unique<ScriptedDevice>(o.device.substr(9), map, [&](const std::string& name, SE3* X) {
+    if (o.device.rfind("replay:", 0) == 0) {
+      device = std::make_unique<ReplayDevice>(o.device.substr(7), map);
+    } else if (o.device.rfind("scripted:", 0) != 0) {
+      throw std::runtime_error("--device must be scripted:FILE or replay:LOG (no real device driver is built)");
+    } else device = std::make_unique<ScriptedDevice>(o.device.substr(9), map, [&](const std::string& name, SE3* X) {
       const int f = model->frameIndex(name);
       if (f < 0 || !estimate.any()) return false;
       *X = links[static_cast<size_t>(f)];
@@ -194,10 +198,16 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   std::thread bus_thread([&] {
     double next_status = monotonic() + 0.1;
     int64_t seq = 0, last_cycles = 0;
+    bool was_lost = false;
     double last_t = monotonic();
     while (!bus_stop) {
       bus.lcm().handleTimeout(5);
       const double now = monotonic();
+      if (stats.lost != was_lost) {  // said here, not in the servo loop (no I/O there)
+        was_lost = stats.lost;
+        if (was_lost) std::fprintf(stderr, "igms-haptic: server lost (no state for %.0f ms): forces ramping down\n", o.lost_ms);
+        else std::fprintf(stderr, "igms-haptic: server back: forces ramping up\n");
+      }
       if (now < next_status) continue;
       next_status += 0.1;
       client_status_t s;

@@ -155,3 +155,49 @@ TEST(ScriptedDevice, SimulatedHandFeelsTheRenderedForce) {
 
 }  // namespace
 }  // namespace igms
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "haptic_client/device/replay_device.h"
+#include "igms/haptic_input_t.hpp"
+
+namespace igms {
+namespace {
+
+TEST(ReplayDevice, PlaysBackTheRecordedTipMotionAndButtons) {
+  const std::string path = ::testing::TempDir() + "/inputs.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    for (int k = 0; k <= 100; ++k) {
+      haptic_input_t m{};
+      m.utime = 5'000'000 + k * 1000;  // 1 kHz
+      m.seq = k;
+      m.tip_position[0] = 0.001 * k;  // 1 m/s along x, scene frame
+      m.mode = k >= 50 ? haptic_input_t::MODE_PULL : haptic_input_t::MODE_NONE;
+      std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
+      m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+      lcm::LogEvent e;
+      e.eventnum = k;
+      e.timestamp = m.utime;
+      e.channel = "IGMS_HAPTIC_INPUT";
+      e.datalen = static_cast<int32_t>(buf.size());
+      e.data = buf.data();
+      log.writeEvent(&e);
+    }
+  }
+  ReplayDevice d(path, WorkspaceMap{2.0, Vector3::Zero()});
+  EXPECT_EQ(d.samples(), 101u);
+  const DeviceReading r = d.read(0.0255);
+  EXPECT_NEAR(r.position.x(), 0.0255 / 2.0, 1e-12);  // scene 0.0255 m at scale 2
+  EXPECT_NEAR(r.velocity.x(), 0.5, 1e-9);
+  EXPECT_EQ(r.buttons, 0);
+  EXPECT_EQ(d.read(0.06).buttons, 1) << "a recorded pull replays as the button held";
+  EXPECT_FALSE(d.finished(0.099));
+  EXPECT_TRUE(d.finished(0.11));
+  std::remove(path.c_str());
+  EXPECT_THROW(ReplayDevice("/nonexistent.lcmlog", WorkspaceMap{}), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace igms

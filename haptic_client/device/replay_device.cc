@@ -1,0 +1,47 @@
+#include "haptic_client/device/replay_device.h"
+
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+
+#include "igms/haptic_input_t.hpp"
+
+namespace igms {
+
+ReplayDevice::ReplayDevice(const std::string& path, const WorkspaceMap& map, const std::string& channel)
+    : path_(path), map_(map) {
+  lcm::LogFile log(path, "r");
+  if (!log.good()) throw std::runtime_error(path + ": cannot open the LCM log");
+  int64_t first = -1, last_seq = -1;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != channel) continue;
+    haptic_input_t m;
+    if (m.decode(e->data, 0, static_cast<int>(e->datalen)) < 0) continue;
+    if (m.seq <= last_seq) continue;  // replays of one input
+    last_seq = m.seq;
+    if (first < 0) first = m.utime;
+    int buttons = m.buttons;
+    if (m.mode == haptic_input_t::MODE_PULL) buttons |= 1;  // a pull is the main button held
+    samples_.push_back({1e-6 * static_cast<double>(m.utime - first),
+                        Vector3(m.tip_position[0], m.tip_position[1], m.tip_position[2]), buttons});
+  }
+  if (samples_.empty()) throw std::runtime_error(path + ": no " + channel + " events to replay");
+}
+
+DeviceReading ReplayDevice::read(double t) {
+  DeviceReading r;
+  while (cursor_ + 1 < samples_.size() && samples_[cursor_ + 1].t <= t) ++cursor_;
+  while (cursor_ > 0 && samples_[cursor_].t > t) --cursor_;
+  const Sample& a = samples_[cursor_];
+  if (cursor_ + 1 < samples_.size() && t > a.t) {
+    const Sample& b = samples_[cursor_ + 1];
+    const double u = (t - a.t) / (b.t - a.t);
+    r.position = map_.toDevice(a.tip + u * (b.tip - a.tip));
+    r.velocity = (b.tip - a.tip) / (map_.scale * (b.t - a.t));
+  } else {
+    r.position = map_.toDevice(a.tip);
+  }
+  r.buttons = a.buttons;
+  return r;
+}
+
+}  // namespace igms
