@@ -13,6 +13,7 @@ inline constexpr const char* kCommand = "IGMS_COMMAND";                // comman
 inline constexpr const char* kServerStatus = "IGMS_SERVER_STATUS";     // server_status_t
 inline constexpr const char* kEditedTrajectory = "IGMS_TRAJECTORY_EDITED";  // trajectory_t
 inline constexpr const char* kClientStatus = "IGMS_CLIENT_STATUS";     // client_status_t
+inline constexpr const char* kSessionInfo = "IGMS_SESSION_INFO";       // session_info_t
 inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartbeat_t
 
 }  // namespace igms::channels

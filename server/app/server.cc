@@ -21,6 +21,8 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "igms_build_info.h"
 #include "igms/trajectory_t.hpp"
 #include "server/collision/collision_world.h"
 #include "server/loop/snapshot.h"
@@ -77,6 +79,17 @@ class Publisher {
     msg_.nlinks = static_cast<int32_t>(m.frames.size());
     msg_.link_poses.assign(m.frames.size(), std::vector<double>(7, 0.0));
     buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
+    info_.build_version = IGMS_BUILD_VERSION;
+    info_.scene_path = sim.scene().source;
+    info_.scene_text = sim.scene().text;
+    info_.model_path = sim.scene().model_path;
+    try {
+      info_.model_hash = textHash(readModelFile(sim.scene().model_path));
+    } catch (const std::exception&) {
+      info_.model_hash = "unreadable";
+    }
+    info_.clock = options.clock == ServerOptions::Clock::Lockstep ? "lockstep" : "realtime";
+    info_.dt = sim.scene().dt;
     for (const auto& f : m.frames) link_names_.push_back(f.name);
     components_ = sim.activeComponents();
   }
@@ -99,6 +112,11 @@ class Publisher {
   // Publishes what the ring holds, and the status when due. Returns whether
   // anything was published.
   bool pump() {
+    if (info_due_.exchange(false)) {
+      info_.utime = nowUs();
+      info_.session_token = info_token_;
+      bus_.publish(channels::kSessionInfo, &info_);
+    }
     bool any = false;
     while (const Snapshot* s = ring_.beginRead()) {
       publishState(*s);
@@ -122,6 +140,13 @@ class Publisher {
   std::string message;
   int64_t collisions = 0;
   double first_collision = -1.0, min_distance = 1e9;
+
+  // What a replay needs: at the start of a session, after a reset, and every
+  // second. Any thread may ask; the publishing side sends it.
+  void requestSessionInfo(int64_t token) {
+    info_token_ = token;
+    info_due_ = true;
+  }
 
   void publishStatus() {
     server_status_t s;
@@ -162,6 +187,7 @@ class Publisher {
     s.nlinks = static_cast<int32_t>(link_names_.size());
     s.link_names = link_names_;
     bus_.publish(channels::kServerStatus, &s);
+    if (status_seq_ % 10 == 1) requestSessionInfo(s.session_token);
     window_start_ = now;
     window_steps_ = 0;
     step_times_.clear();
@@ -268,6 +294,9 @@ class Publisher {
   const ServerOptions& options_;
   CollisionWorld world_;
   robot_state_t msg_;
+  session_info_t info_;
+  std::atomic<bool> info_due_{false};
+  std::atomic<int64_t> info_token_{0};
   std::vector<uint8_t> buffer_;
   std::vector<std::string> link_names_, components_;
   std::vector<double> step_times_;
@@ -370,6 +399,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     }
     SnapshotRing ring(sim->model(), 512);
     Publisher publisher(bus, *sim, ring, shared, options);
+    publisher.requestSessionInfo(token);
     publisher.start(!lockstep);
     auto publishSnapshot = [&](int32_t step_us) {
       if (Snapshot* slot = ring.beginWrite()) {
@@ -410,6 +440,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
           case command_t::RESET: {
             sim->reset();
             token = randomToken();
+            publisher.requestSessionInfo(token);
             std::lock_guard<std::mutex> lock(shared.mutex);
             shared.gate->newSession(token);
             break;

@@ -2,6 +2,7 @@
 // their parent body, orders bodies depth-first so that parent[i] < i.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -251,6 +252,17 @@ std::string readModelFile(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+std::string textHash(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+  return out;
 }
 
 int Model::frameIndex(const std::string& n) const {

@@ -56,6 +56,9 @@ struct BuildOptions {
 // The whole text of a model file; ModelError "PATH: cannot open the file".
 std::string readModelFile(const std::string& path);
 
+// FNV-1a 64 of a text, as 16 hex digits: identifies a model file in logs.
+std::string textHash(const std::string& text);
+
 // Warnings (valid but suspicious data) are appended to *warnings when given.
 Model buildModel(const RobotDescription& description, const BuildOptions& options,
                  std::vector<std::string>* warnings = nullptr);

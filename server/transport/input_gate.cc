@@ -37,30 +37,26 @@ void InputGate::newSession(int64_t token) {
   last_seq_.clear();
 }
 
-bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReason* why) {
-  ++received_;
-  if (m.session_token != token_) return reject(RejectReason::Token, why);
+bool toInteractionInput(const haptic_input_t& m, const Model& model, InteractionInput* out, RejectReason* why) {
   if (!finite3(m.tip_position) || !finite3(m.tip_velocity) || !finite3(m.contact_point) ||
       !finite3(m.contact_normal) || !finite3(m.attach_point) || !std::isfinite(m.penetration) ||
-      !std::isfinite(m.tip_radius))
-    return reject(RejectReason::NonFinite, why);
+      !std::isfinite(m.tip_radius)) {
+    *why = RejectReason::NonFinite;
+    return false;
+  }
   if (m.mode < haptic_input_t::MODE_NONE || m.mode > haptic_input_t::MODE_PULL ||
       norm3(m.tip_position) > kMaxPosition || norm3(m.tip_velocity) > kMaxSpeed || m.tip_radius < 0.0 ||
       m.tip_radius > kMaxTipRadius || m.penetration < 0.0 || m.penetration > 1.0 || norm3(m.attach_point) > 10.0 ||
-      norm3(m.contact_point) > 10.0)
-    return reject(RejectReason::Range, why);
+      norm3(m.contact_point) > 10.0) {
+    *why = RejectReason::Range;
+    return false;
+  }
   int contact = -1, attach = -1;
-  if (!m.contact_link.empty() && (contact = model_.frameIndex(m.contact_link)) < 0)
-    return reject(RejectReason::UnknownLink, why);
-  if (!m.attach_link.empty() && (attach = model_.frameIndex(m.attach_link)) < 0)
-    return reject(RejectReason::UnknownLink, why);
-  // Newer than the last input admitted from this client (clients are few: a short list).
-  auto it = last_seq_.begin();
-  while (it != last_seq_.end() && it->first != m.client_id) ++it;
-  if (it != last_seq_.end() && m.seq <= it->second) return reject(RejectReason::Stale, why);
-  if (it == last_seq_.end()) last_seq_.emplace_back(m.client_id, m.seq);
-  else it->second = m.seq;
-
+  if ((!m.contact_link.empty() && (contact = model.frameIndex(m.contact_link)) < 0) ||
+      (!m.attach_link.empty() && (attach = model.frameIndex(m.attach_link)) < 0)) {
+    *why = RejectReason::UnknownLink;
+    return false;
+  }
   out->mode = static_cast<InteractionMode>(m.mode);
   out->tip_position = Vector3(m.tip_position[0], m.tip_position[1], m.tip_position[2]);
   out->tip_velocity = Vector3(m.tip_velocity[0], m.tip_velocity[1], m.tip_velocity[2]);
@@ -70,6 +66,21 @@ bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReas
   out->attach_point = Vector3(m.attach_point[0], m.attach_point[1], m.attach_point[2]);
   out->seq = m.seq;
   out->client = m.client_id;
+  return true;
+}
+
+bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReason* why) {
+  ++received_;
+  if (m.session_token != token_) return reject(RejectReason::Token, why);
+  InteractionInput converted;
+  if (!toInteractionInput(m, model_, &converted, why)) return reject(*why, why);
+  // Newer than the last input admitted from this client (clients are few: a short list).
+  auto it = last_seq_.begin();
+  while (it != last_seq_.end() && it->first != m.client_id) ++it;
+  if (it != last_seq_.end() && m.seq <= it->second) return reject(RejectReason::Stale, why);
+  if (it == last_seq_.end()) last_seq_.emplace_back(m.client_id, m.seq);
+  else it->second = m.seq;
+  *out = converted;
   return true;
 }
 

@@ -16,6 +16,11 @@ enum class RejectReason : int { NonFinite = 0, Range = 1, UnknownLink = 2, Token
 constexpr int kRejectReasons = 6;
 const char* rejectReasonName(RejectReason r);
 
+// The checks that do not depend on the session (finite, in range, known
+// links) and the conversion into the step's input: the same for the live
+// server and for re-simulation of a log.
+bool toInteractionInput(const haptic_input_t& msg, const Model& model, InteractionInput* out, RejectReason* why);
+
 class InputGate {
  public:
   InputGate(const Model& model, int64_t session_token) : model_(model), token_(session_token) {}
