@@ -1,0 +1,308 @@
+// igms-logger: records the LCM bus to standard LCM event logs.
+//
+//   igms-logger [-o NAME] [--increment] [--timestamp] [-c REGEX] [-v|--invert-channels]
+//               [--split-mb N] [--split-s S] [--rotate N] [--flush-ms MS] [--queue N]
+//               [--lcm-url URL] [--duration S] [--wait-session-s S] [--stats-file FILE]
+//               [-q] [--verbose] [--slow-disk-us US]
+//
+// The receive handler never touches the disk: it copies the event into a
+// bounded queue and a writer thread writes; events dropped because the queue
+// was full are counted per channel and reported. The first event of each log
+// file is the server's session_info (scene, model hash, build), held back for
+// up to --wait-session-s while it has not been seen.
+#include <sys/prctl.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <deque>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+#include <unistd.h>
+
+#include "channels.h"
+#include "tools/eventlog/event_log.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+
+struct Options {
+  std::string name;
+  bool increment = false, timestamp = false, invert = false, quiet = false, verbose = false;
+  std::string channel_regex = ".*";
+  double split_mb = 0, split_s = 0, duration = 0, wait_session_s = 2.0, flush_ms = 100, slow_disk_us = 0;
+  int rotate = 0;
+  size_t queue = 20000;
+  std::string lcm_url, stats_file;
+};
+
+int usage(const char* why) {
+  if (why) std::fprintf(stderr, "igms-logger: %s\n", why);
+  std::fprintf(stderr,
+               "usage: igms-logger [-o NAME] [--increment] [--timestamp] [-c REGEX] [-v|--invert-channels]\n"
+               "                   [--split-mb N] [--split-s S] [--rotate N] [--flush-ms MS] [--queue N]\n"
+               "                   [--lcm-url URL] [--duration S] [--wait-session-s S] [--stats-file FILE]\n"
+               "                   [-q] [--verbose] [--slow-disk-us US]\n");
+  return 2;
+}
+
+bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
+
+// Names the files: NAME, or NAME.00, NAME.01, ... when splitting or incrementing.
+class Naming {
+ public:
+  explicit Naming(const Options& o) : o_(o) {
+    base_ = o.name;
+    if (base_.empty() || o.timestamp) {
+      char buf[64];
+      const std::time_t now = std::time(nullptr);
+      std::strftime(buf, sizeof buf, "%Y-%m-%d-%H%M%S", std::localtime(&now));
+      base_ = (base_.empty() ? std::string("igms") : base_) + "-" + buf;
+      if (o.name.empty()) base_ += ".lcmlog";
+    }
+  }
+  std::string next() {
+    const bool numbered = o_.increment || o_.split_mb > 0 || o_.split_s > 0;
+    if (!numbered) return base_;
+    for (;;) {
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, ".%02d", n_++);
+      const std::string p = base_ + suffix;
+      if (!exists(p) || !o_.increment) return p;
+    }
+  }
+
+ private:
+  const Options& o_;
+  std::string base_;
+  int n_ = 0;
+};
+
+struct Queued {
+  int64_t utime;
+  std::string channel;
+  std::vector<uint8_t> data;
+};
+
+class Logger {
+ public:
+  explicit Logger(const Options& o) : o_(o), filter_(o.channel_regex), naming_(o) {}
+
+  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    // The bus thread: copy and queue, never the disk.
+    if (std::regex_match(channel, filter_) == o_.invert) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++received_[channel];
+    if (queue_.size() >= o_.queue) {
+      ++dropped_[channel];
+      return;
+    }
+    const auto* p = static_cast<const uint8_t*>(rbuf->data);
+    queue_.push_back({rbuf->recv_utime, channel, std::vector<uint8_t>(p, p + rbuf->data_size)});
+    if (channel == igms::channels::kSessionInfo) have_session_ = true;
+    ready_.notify_one();
+  }
+
+  void writerLoop(const std::atomic<bool>& stop) {
+    const auto start = std::chrono::steady_clock::now();
+    auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    // Hold the events back until the session info arrives (or the wait ends).
+    while (!stop && !have_session_ && since() < o_.wait_session_s)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      // Move the newest session info to the front.
+      for (auto it = queue_.rbegin(); it != queue_.rend(); ++it)
+        if (it->channel == igms::channels::kSessionInfo) {
+          session_ = *it;
+          have_session_copy_ = true;
+          break;
+        }
+    }
+    if (!have_session_copy_ && !o_.quiet)
+      std::fprintf(stderr, "igms-logger: no %s within %.1f s: the log will not re-simulate\n",
+                   igms::channels::kSessionInfo, o_.wait_session_s);
+    open();
+    auto last_flush = std::chrono::steady_clock::now();
+    double file_start = since();
+    for (;;) {
+      std::deque<Queued> batch;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait_for(lock, std::chrono::milliseconds(20), [&] { return !queue_.empty() || stop; });
+        batch.swap(queue_);
+        if (batch.empty() && stop) break;
+      }
+      for (const Queued& q : batch) {
+        if (q.channel == igms::channels::kSessionInfo) {
+          session_ = q;
+          have_session_copy_ = true;
+        }
+        if (o_.slow_disk_us > 0)  // a test hook: a disk this slow per event
+          std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(o_.slow_disk_us)));
+        writer_->write(q.utime, q.channel, q.data.data(), q.data.size());
+        ++written_;
+        if ((o_.split_mb > 0 && static_cast<double>(writer_->bytes()) >= o_.split_mb * 1048576.0) ||
+            (o_.split_s > 0 && since() - file_start >= o_.split_s)) {
+          open();
+          file_start = since();
+        }
+      }
+      if (std::chrono::steady_clock::now() - last_flush > std::chrono::duration<double, std::milli>(o_.flush_ms)) {
+        writer_->flush();
+        last_flush = std::chrono::steady_clock::now();
+      }
+    }
+    writer_->flush();
+  }
+
+  void report(std::FILE* out, bool json) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int64_t received = 0, dropped = 0;
+    for (const auto& [c, n] : received_) received += n;
+    for (const auto& [c, n] : dropped_) dropped += n;
+    if (json) {
+      std::fprintf(out, "{\"received\": %lld, \"written\": %lld, \"dropped\": %lld, \"files\": [",
+                   static_cast<long long>(received), static_cast<long long>(written_), static_cast<long long>(dropped));
+      for (size_t i = 0; i < files_.size(); ++i) std::fprintf(out, "%s\"%s\"", i ? ", " : "", files_[i].c_str());
+      std::fprintf(out, "], \"dropped_by_channel\": {");
+      bool first = true;
+      for (const auto& [c, n] : dropped_) {
+        std::fprintf(out, "%s\"%s\": %lld", first ? "" : ", ", c.c_str(), static_cast<long long>(n));
+        first = false;
+      }
+      std::fprintf(out, "}}\n");
+      return;
+    }
+    std::fprintf(out, "igms-logger: %lld received, %lld written, %lld dropped (queue full) in %zu file(s)\n",
+                 static_cast<long long>(received), static_cast<long long>(written_), static_cast<long long>(dropped),
+                 files_.size());
+    for (const auto& [c, n] : dropped_)
+      std::fprintf(out, "igms-logger:   dropped %lld on %s\n", static_cast<long long>(n), c.c_str());
+  }
+
+ private:
+  void open() {
+    if (writer_) writer_->flush();
+    const std::string path = naming_.next();
+    writer_ = std::make_unique<igms::log::LogWriter>(path);
+    files_.push_back(path);
+    if (!o_.quiet) std::fprintf(stderr, "igms-logger: writing %s\n", path.c_str());
+    // Every file starts with what a replay needs.
+    if (have_session_copy_) {
+      writer_->write(session_.utime, session_.channel, session_.data.data(), session_.data.size());
+      ++written_;
+    }
+    // Rotation: keep the newest N files.
+    while (o_.rotate > 0 && static_cast<int>(files_.size()) > o_.rotate) {
+      std::remove(files_.front().c_str());
+      files_.erase(files_.begin());
+    }
+  }
+
+  const Options& o_;
+  std::regex filter_;
+  Naming naming_;
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<Queued> queue_;
+  std::map<std::string, int64_t> received_, dropped_;
+  std::atomic<bool> have_session_{false};
+  bool have_session_copy_ = false;
+  Queued session_;
+  std::unique_ptr<igms::log::LogWriter> writer_;
+  std::vector<std::string> files_;
+  int64_t written_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        usage(("missing value after " + a).c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "-o" || a == "--output") o.name = value();
+    else if (a == "--increment") o.increment = true;
+    else if (a == "--timestamp") o.timestamp = true;
+    else if (a == "-c" || a == "--channel") o.channel_regex = value();
+    else if (a == "-v" || a == "--invert-channels") o.invert = true;
+    else if (a == "--split-mb") o.split_mb = std::atof(value().c_str());
+    else if (a == "--split-s") o.split_s = std::atof(value().c_str());
+    else if (a == "--rotate") o.rotate = std::atoi(value().c_str());
+    else if (a == "--flush-ms") o.flush_ms = std::atof(value().c_str());
+    else if (a == "--queue") o.queue = static_cast<size_t>(std::atol(value().c_str()));
+    else if (a == "--lcm-url") o.lcm_url = value();
+    else if (a == "--duration") o.duration = std::atof(value().c_str());
+    else if (a == "--wait-session-s") o.wait_session_s = std::atof(value().c_str());
+    else if (a == "--stats-file") o.stats_file = value();
+    else if (a == "--slow-disk-us") o.slow_disk_us = std::atof(value().c_str());
+    else if (a == "-q" || a == "--quiet") o.quiet = true;
+    else if (a == "--verbose") o.verbose = true;
+    else if (a == "-h" || a == "--help") { usage(nullptr); return 0; }
+    else return usage(("unknown argument " + a).c_str());
+  }
+  try {
+    std::regex test(o.channel_regex);
+  } catch (const std::regex_error& e) {
+    return usage(("bad channel regex: " + std::string(e.what())).c_str());
+  }
+  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  lcm::LCM bus(o.lcm_url.empty() ? igms::channels::kDefaultUrl : o.lcm_url + (o.lcm_url.find('?') == std::string::npos ? "?recv_buf_size=2097152" : "&recv_buf_size=2097152"));
+  if (!bus.good()) {
+    std::fprintf(stderr, "igms-logger: cannot open LCM\n");
+    return 2;
+  }
+  Logger logger(o);
+  bus.subscribe(".*", &Logger::onMessage, &logger)->setQueueCapacity(100000);
+  std::atomic<bool> writer_stop{false};
+  std::thread writer([&] {
+    try {
+      logger.writerLoop(writer_stop);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "igms-logger: %s\n", e.what());
+      g_stop = true;
+    }
+  });
+  const auto start = std::chrono::steady_clock::now();
+  auto last_report = start;
+  while (!g_stop) {
+    bus.handleTimeout(50);
+    const auto now = std::chrono::steady_clock::now();
+    if (o.duration > 0 && std::chrono::duration<double>(now - start).count() >= o.duration) break;
+    if (o.verbose && now - last_report > std::chrono::seconds(1)) {
+      logger.report(stderr, false);
+      last_report = now;
+    }
+  }
+  // Drain what LCM still holds, then stop the writer.
+  while (bus.handleTimeout(0) > 0) {
+  }
+  writer_stop = true;
+  writer.join();
+  if (!o.quiet) logger.report(stderr, false);
+  if (!o.stats_file.empty())
+    if (std::FILE* f = std::fopen(o.stats_file.c_str(), "w")) {
+      logger.report(f, true);
+      std::fclose(f);
+    }
+  return 0;
+}

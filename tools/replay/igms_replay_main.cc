@@ -1,0 +1,275 @@
+// igms-replay: play back, re-simulate and export igms session logs.
+//
+//   igms-replay info   LOG
+//   igms-replay play   LOG [--speed X | --fast] [--channel REGEX] [--remap FROM=TO]... [--start S] [--end S]
+//                          [--loop] [--step] [--lcm-url URL]
+//   igms-replay resim  LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]
+//   igms-replay export LOG DIR            (CSV files and the scene, for plots)
+//
+// A damaged log gives a clear error with the byte offset; the events before
+// the damage are still used (exit code 3 then, unless the command failed).
+#include <sys/prctl.h>
+#include <sys/stat.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "channels.h"
+#include "igms/client_status_t.hpp"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "tools/eventlog/event_log.h"
+#include "tools/replay/resimulate.h"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+
+int usage(const char* why) {
+  if (why) std::fprintf(stderr, "igms-replay: %s\n", why);
+  std::fprintf(stderr,
+               "usage: igms-replay info LOG\n"
+               "       igms-replay play LOG [--speed X|--fast] [--channel REGEX] [--remap FROM=TO]... [--start S]\n"
+               "                            [--end S] [--loop] [--step] [--lcm-url URL]\n"
+               "       igms-replay resim LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]\n"
+               "       igms-replay export LOG DIR\n");
+  return 2;
+}
+
+igms::log::LogContents load(const std::string& path) {
+  igms::log::LogContents c = igms::log::readAll(path);
+  if (c.damaged)
+    std::fprintf(stderr, "igms-replay: %s\nigms-replay: using the %zu events before the damage\n", c.error.c_str(),
+                 c.events.size());
+  return c;
+}
+
+int info(const std::string& path) {
+  const auto c = load(path);
+  std::map<std::string, std::pair<int64_t, uint64_t>> per;
+  for (const auto& e : c.events) {
+    per[e.channel].first++;
+    per[e.channel].second += e.data.size();
+  }
+  const double span = c.events.empty() ? 0.0 : 1e-6 * static_cast<double>(c.events.back().utime - c.events.front().utime);
+  std::printf("%s: %zu events over %.3f s%s\n", path.c_str(), c.events.size(), span, c.damaged ? " (damaged)" : "");
+  for (const auto& [ch, v] : per)
+    std::printf("  %-26s %8lld events %10llu bytes\n", ch.c_str(), static_cast<long long>(v.first),
+                static_cast<unsigned long long>(v.second));
+  for (const auto& e : c.events)
+    if (e.channel == igms::channels::kSessionInfo) {
+      igms::session_info_t s;
+      if (s.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0)
+        std::printf("  session: scene %s, model %s (hash %s), %s clock, dt %g s, %s\n", s.scene_path.c_str(),
+                    s.model_path.c_str(), s.model_hash.c_str(), s.clock.c_str(), s.dt, s.build_version.c_str());
+      break;
+    }
+  return c.damaged ? 3 : 0;
+}
+
+int play(const std::string& path, int argc, char** argv) {
+  double speed = 1.0, start = 0.0, end = INFINITY;
+  bool fast = false, loop = false, step = false;
+  std::string regex = ".*", url;
+  std::map<std::string, std::string> remap;
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
+    if (a == "--speed") speed = std::atof(value().c_str());
+    else if (a == "--fast") fast = true;
+    else if (a == "--channel") regex = value();
+    else if (a == "--remap") {
+      const std::string r = value();
+      const size_t eq = r.find('=');
+      if (eq == std::string::npos) return usage("--remap wants FROM=TO");
+      remap[r.substr(0, eq)] = r.substr(eq + 1);
+    } else if (a == "--start") start = std::atof(value().c_str());
+    else if (a == "--end") end = std::atof(value().c_str());
+    else if (a == "--loop") loop = true;
+    else if (a == "--step") step = true;
+    else if (a == "--lcm-url") url = value();
+    else return usage(("unknown argument " + a).c_str());
+  }
+  if (!(speed > 0)) return usage("--speed must be positive");
+  const auto c = load(path);
+  if (c.events.empty()) return 1;
+  lcm::LCM bus(url.empty() ? igms::channels::kDefaultUrl : url);
+  if (!bus.good()) return usage("cannot open LCM");
+  const std::regex filter(regex);
+  const int64_t t0 = c.events.front().utime;
+  int64_t published = 0;
+  do {
+    const auto wall0 = std::chrono::steady_clock::now();
+    const double first = start;
+    for (const auto& e : c.events) {
+      if (g_stop) break;
+      const double t = 1e-6 * static_cast<double>(e.utime - t0);
+      if (t < start || t > end || !std::regex_match(e.channel, filter)) continue;
+      if (step) {
+        std::fprintf(stderr, "igms-replay: t=%.6f %s (%zu bytes) [enter]", t, e.channel.c_str(), e.data.size());
+        std::string line;
+        if (!std::getline(std::cin, line)) break;
+      } else if (!fast) {
+        std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>((t - first) / speed)));
+      }
+      auto it = remap.find(e.channel);
+      bus.publish(it == remap.end() ? e.channel : it->second, e.data.data(), static_cast<unsigned>(e.data.size()));
+      ++published;
+    }
+  } while (loop && !g_stop);
+  std::fprintf(stderr, "igms-replay: published %lld events\n", static_cast<long long>(published));
+  return c.damaged ? 3 : 0;
+}
+
+int resim(const std::string& path, int argc, char** argv) {
+  double tolerance = 1e-9;
+  bool require_identical = false, json = false;
+  std::string base = ".";
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--tolerance" && i + 1 < argc) tolerance = std::atof(argv[++i]);
+    else if (a == "--require-identical") require_identical = true;
+    else if (a == "--base-dir" && i + 1 < argc) base = argv[++i];
+    else if (a == "--json") json = true;
+    else return usage(("unknown argument " + a).c_str());
+  }
+  const auto c = load(path);
+  const igms::ResimResult r = igms::resimulate(c.events, base);
+  if (!r.ok) {
+    std::fprintf(stderr, "igms-replay: %s: %s\n", path.c_str(), r.error.c_str());
+    return 1;
+  }
+  if (json) {
+    std::printf("{\"steps\": %lld, \"identical\": %s, \"max_deviation\": %.17g, \"fields\": {",
+                static_cast<long long>(r.steps), r.identical ? "true" : "false", r.max_deviation);
+    for (size_t i = 0; i < r.deviations.size(); ++i)
+      std::printf("%s\"%s\": %.17g", i ? ", " : "", r.deviations[i].field.c_str(), r.deviations[i].max_abs);
+    std::printf("}}\n");
+  } else {
+    std::printf("igms-replay: re-simulated %lld steps of %s (scene %s, recorded by %s)\n",
+                static_cast<long long>(r.steps), path.c_str(), r.scene_path.c_str(), r.build_logged.c_str());
+    if (r.model_hash_logged != r.model_hash_now)
+      std::printf("  note: the model file changed since the recording (hash %s, now %s)\n",
+                  r.model_hash_logged.c_str(), r.model_hash_now.c_str());
+    for (const auto& d : r.deviations)
+      std::printf("  %-18s max |recorded - now| = %-12.3g at step %lld\n", d.field.c_str(), d.max_abs,
+                  static_cast<long long>(d.at_seq));
+    std::printf("  %s\n", r.identical ? "identical to the recording, bit for bit" : "differs from the recording");
+    if (!r.error.empty()) std::printf("  stopped early: %s\n", r.error.c_str());
+  }
+  if (require_identical && !r.identical) return 1;
+  if (r.max_deviation > tolerance) {
+    std::fprintf(stderr, "igms-replay: deviation %.3g exceeds the tolerance %.3g\n", r.max_deviation, tolerance);
+    return 1;
+  }
+  return c.damaged || !r.error.empty() ? 3 : 0;
+}
+
+int exportCsv(const std::string& path, const std::string& dir) {
+  const auto c = load(path);
+  mkdir(dir.c_str(), 0755);
+  std::ofstream states(dir + "/states.csv"), inputs(dir + "/inputs.csv"), client(dir + "/client_status.csv"),
+      server(dir + "/server_status.csv");
+  if (!states) return usage(("cannot write to " + dir).c_str());
+  states.precision(17);
+  inputs.precision(17);
+  bool header = false;
+  std::vector<std::string> links;
+  for (const auto& e : c.events) {
+    const auto* d = e.data.data();
+    const int n = static_cast<int>(e.data.size());
+    if (e.channel == igms::channels::kSessionInfo) {
+      igms::session_info_t s;
+      if (s.decode(d, 0, n) >= 0) {
+        std::ofstream(dir + "/scene.yaml") << s.scene_text;
+        std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
+                                            << "\nmodel_hash: " << s.model_hash << "\nbuild: " << s.build_version
+                                            << "\nclock: " << s.clock << "\n";
+      }
+    } else if (e.channel == igms::channels::kServerStatus) {
+      igms::server_status_t s;
+      if (s.decode(d, 0, n) < 0) continue;
+      if (links.empty()) links = s.link_names;
+      server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
+             << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
+             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "\n";
+    } else if (e.channel == igms::channels::kRobotState) {
+      igms::robot_state_t s;
+      if (s.decode(d, 0, n) < 0) continue;
+      if (!header) {
+        states << "t,seq,input_seq,mode";
+        for (int j = 0; j < s.nq; ++j) states << ",q" << j;
+        for (int j = 0; j < s.nv; ++j) states << ",v" << j;
+        for (int j = 0; j < s.nv; ++j) states << ",qdd" << j;
+        for (int j = 0; j < s.nv; ++j) states << ",tau" << j;
+        states << ",fx,fy,fz,px,py,pz,device_fx,device_fy,device_fz,min_obstacle_distance,in_collision,step_us";
+        for (int l = 0; l < s.nlinks; ++l) {
+          const std::string name = l < static_cast<int>(links.size()) ? links[l] : "link" + std::to_string(l);
+          states << "," << name << ".x," << name << ".y," << name << ".z";
+        }
+        states << "\n";
+        header = true;
+      }
+      states << s.sim_time << "," << s.seq << "," << s.input_seq << "," << int{s.mode};
+      for (double x : s.q) states << "," << x;
+      for (double x : s.v) states << "," << x;
+      for (double x : s.qdd) states << "," << x;
+      for (double x : s.tau) states << "," << x;
+      for (double x : s.interaction_force) states << "," << x;
+      for (double x : s.interaction_point) states << "," << x;
+      for (double x : s.device_force) states << "," << x;
+      states << "," << s.min_obstacle_distance << "," << int{s.in_collision} << "," << s.step_us;
+      for (const auto& p : s.link_poses) states << "," << p[0] << "," << p[1] << "," << p[2];
+      states << "\n";
+    } else if (e.channel == igms::channels::kHapticInput) {
+      igms::haptic_input_t s;
+      if (s.decode(d, 0, n) < 0) continue;
+      inputs << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
+             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.penetration << "," << s.attach_link
+             << "\n";
+    } else if (e.channel == igms::channels::kClientStatus) {
+      igms::client_status_t s;
+      if (s.decode(d, 0, n) < 0) continue;
+      client << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
+             << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
+             << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "\n";
+    }
+  }
+  std::fprintf(stderr, "igms-replay: exported %s to %s/\n", path.c_str(), dir.c_str());
+  return c.damaged ? 3 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) return usage(nullptr);
+  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const std::string cmd = argv[1], path = argv[2];
+  try {
+    if (cmd == "info") return info(path);
+    if (cmd == "play") return play(path, argc - 3, argv + 3);
+    if (cmd == "resim") return resim(path, argc - 3, argv + 3);
+    if (cmd == "export") return argc < 4 ? usage("export wants LOG DIR") : exportCsv(path, argv[3]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-replay: %s\n", e.what());
+    return 1;
+  }
+  return usage(("unknown command " + cmd).c_str());
+}

@@ -1,0 +1,112 @@
+#include "tools/replay/resimulate.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "channels.h"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "server/loop/simulation.h"
+#include "server/model/robot_description.h"
+#include "server/transport/input_gate.h"
+
+namespace igms {
+namespace {
+
+void track(FieldDeviation& d, double recorded, double now, int64_t seq, bool& identical) {
+  if (std::memcmp(&recorded, &now, sizeof(double)) != 0) identical = false;
+  const double e = std::abs(recorded - now);
+  if (e > d.max_abs || std::isnan(e)) {
+    d.max_abs = std::isnan(e) ? INFINITY : e;
+    d.at_seq = seq;
+  }
+}
+
+}  // namespace
+
+ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir) {
+  ResimResult out;
+  session_info_t info;
+  bool have_info = false;
+  std::map<int64_t, haptic_input_t> inputs;  // by seq
+  std::vector<robot_state_t> states;
+  for (const auto& e : events) {
+    if (e.channel == channels::kSessionInfo && !have_info) {
+      have_info = info.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
+    } else if (e.channel == channels::kHapticInput) {
+      haptic_input_t m;
+      if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) inputs.emplace(m.seq, m);
+    } else if (e.channel == channels::kRobotState) {
+      robot_state_t m;
+      if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) states.push_back(m);
+    }
+  }
+  if (!have_info) {
+    out.error = "the log has no session info (record it with igms-logger while igms-server runs)";
+    return out;
+  }
+  out.scene_path = info.scene_path;
+  out.model_hash_logged = info.model_hash;
+  out.build_logged = info.build_version;
+  std::unique_ptr<Simulation> sim;
+  try {
+    const size_t slash = info.scene_path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? base_dir : base_dir + "/" + info.scene_path.substr(0, slash);
+    sim = std::make_unique<Simulation>(parseScene(info.scene_text, info.scene_path, dir));
+    out.model_hash_now = textHash(readModelFile(sim->scene().model_path));
+  } catch (const std::exception& e) {
+    out.error = std::string("cannot rebuild the scene: ") + e.what();
+    return out;
+  }
+  const Model& model = sim->model();
+  FieldDeviation dq{"q"}, dv{"v"}, dqdd{"qdd"}, dtau{"tau"}, dforce{"interaction_force"}, dpose{"link_poses"};
+  bool identical = true;
+  // States in step order; the first state is the initial one (seq 0).
+  std::sort(states.begin(), states.end(), [](const auto& a, const auto& b) { return a.seq < b.seq; });
+  InteractionInput input;
+  for (const auto& st : states) {
+    if (st.seq == 0) continue;  // the initial state, before any step
+    if (st.seq != sim->steps() + 1) {
+      out.error = "state seq " + std::to_string(st.seq) + " follows " + std::to_string(sim->steps()) +
+                  ": states are missing from the log (dropped by the logger?) or the session was reset";
+      break;
+    }
+    const InteractionInput* in = nullptr;
+    if (st.input_seq >= 0) {
+      auto it = inputs.find(st.input_seq);
+      RejectReason why;
+      if (it == inputs.end() || !toInteractionInput(it->second, model, &input, &why)) {
+        out.error = "state " + std::to_string(st.seq) + " consumed input " + std::to_string(st.input_seq) +
+                    ", which the log does not hold";
+        break;
+      }
+      in = &input;
+    }
+    sim->step(in);
+    if (st.nq != model.nq || st.nv != model.nv) {
+      out.error = "the recorded states do not match the scene's model";
+      break;
+    }
+    for (int j = 0; j < model.nq; ++j) track(dq, st.q[j], sim->q()[j], st.seq, identical);
+    for (int j = 0; j < model.nv; ++j) {
+      track(dv, st.v[j], sim->v()[j], st.seq, identical);
+      track(dqdd, st.qdd[j], sim->qdd()[j], st.seq, identical);
+      track(dtau, st.tau[j], sim->tau()[j], st.seq, identical);
+    }
+    for (int k = 0; k < 3; ++k) track(dforce, st.interaction_force[k], sim->outcome().force_on_robot[k], st.seq, identical);
+    const auto& poses = sim->linkPoses();
+    for (int l = 0; l < st.nlinks && l < static_cast<int>(poses.size()); ++l)
+      for (int k = 0; k < 3; ++k) track(dpose, st.link_poses[l][k], poses[static_cast<size_t>(l)].p[k], st.seq, identical);
+    ++out.steps;
+  }
+  out.deviations = {dq, dv, dqdd, dtau, dforce, dpose};
+  for (const auto& d : out.deviations) out.max_deviation = std::max(out.max_deviation, d.max_abs);
+  out.identical = identical && out.steps > 0;
+  out.final_q.assign(sim->q().data(), sim->q().data() + sim->q().size());
+  out.ok = out.steps > 0;
+  if (!out.ok && out.error.empty()) out.error = "the log holds no robot states to compare";
+  return out;
+}
+
+}  // namespace igms
