@@ -9,6 +9,9 @@ inline constexpr const char* kDefaultUrl = "udpm://239.255.76.67:7667?ttl=0";
 
 inline constexpr const char* kHapticInput = "IGMS_HAPTIC_INPUT";       // haptic_input_t
 inline constexpr const char* kRobotState = "IGMS_ROBOT_STATE";         // robot_state_t
+// With fault injection on, every state also goes here, undropped, so a log of
+// a lossy session still re-simulates.
+inline constexpr const char* kRobotStateTruth = "IGMS_ROBOT_STATE_TRUTH";  // robot_state_t
 inline constexpr const char* kCommand = "IGMS_COMMAND";                // command_t
 inline constexpr const char* kServerStatus = "IGMS_SERVER_STATUS";     // server_status_t
 inline constexpr const char* kEditedTrajectory = "IGMS_TRAJECTORY_EDITED";  // trajectory_t

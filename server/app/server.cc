@@ -251,6 +251,8 @@ class Publisher {
     msg_.step_us = s.step_us;
     // Encode into our buffer, publish raw bytes (unless a fault drops it).
     const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+    const bool faults = options_.fault_drop > 0 || options_.fault_burst_ms > 0 || options_.fault_delay_us > 0;
+    if (n > 0 && faults) bus_.publish(channels::kRobotStateTruth, buffer_.data(), static_cast<unsigned>(n));
     if (n > 0 && !faultDrops()) {
       if (options_.fault_delay_us > 0)
         std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(options_.fault_delay_us)));

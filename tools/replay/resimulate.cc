@@ -31,13 +31,17 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   bool have_info = false;
   std::map<int64_t, haptic_input_t> inputs;  // by seq
   std::vector<robot_state_t> states;
+  // A fault-injected session logs every state on the truth channel: prefer it.
+  bool truth = false;
+  for (const auto& e : events) truth |= e.channel == channels::kRobotStateTruth;
+  const char* state_channel = truth ? channels::kRobotStateTruth : channels::kRobotState;
   for (const auto& e : events) {
     if (e.channel == channels::kSessionInfo && !have_info) {
       have_info = info.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
     } else if (e.channel == channels::kHapticInput) {
       haptic_input_t m;
       if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) inputs.emplace(m.seq, m);
-    } else if (e.channel == channels::kRobotState) {
+    } else if (e.channel == state_channel) {
       robot_state_t m;
       if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) states.push_back(m);
     }

@@ -1,0 +1,249 @@
+// igms-spy: an lcm-spy for terminals. Per channel: messages, rate, jitter,
+// bandwidth, seq gaps, undecodable messages and the latest decoded igms
+// message; plus the server's and the client's health.
+//   igms-spy [--lcm-url URL] [--once] [--window S] [--json] [--channel REGEX]
+#include <sys/prctl.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "channels.h"
+#include "igms/client_status_t.hpp"
+#include "igms/command_t.hpp"
+#include "igms/haptic_input_t.hpp"
+#include "igms/heartbeat_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "igms/trajectory_t.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// An igms message: its type by fingerprint, a one-line summary, its seq.
+template <typename T>
+bool summarize(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq);
+
+#define IGMS_SEQ_TYPE(T, FMT, ...)                                                                 \
+  template <>                                                                                      \
+  bool summarize<igms::T>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) { \
+    igms::T m;                                                                                     \
+    if (m.decode(d, 0, n) < 0) return false;                                                       \
+    *name = #T;                                                                                    \
+    char buf[256];                                                                                 \
+    std::snprintf(buf, sizeof buf, FMT, __VA_ARGS__);                                              \
+    *line = buf;                                                                                   \
+    *seq = m.seq;                                                                                  \
+    return true;                                                                                   \
+  }
+
+IGMS_SEQ_TYPE(robot_state_t, "t=%.3f q0=%.3f mode=%d |F|=%.2f N step=%d us", m.sim_time, m.nq ? m.q[0] : 0.0,
+              int{m.mode},
+              std::sqrt(m.interaction_force[0] * m.interaction_force[0] + m.interaction_force[1] * m.interaction_force[1] +
+                        m.interaction_force[2] * m.interaction_force[2]),
+              m.step_us)
+IGMS_SEQ_TYPE(haptic_input_t, "client %d mode %d tip (%.3f %.3f %.3f)", m.client_id, int{m.mode}, m.tip_position[0],
+              m.tip_position[1], m.tip_position[2])
+IGMS_SEQ_TYPE(server_status_t, "%s %.0f Hz step p50/p99 %.1f/%.1f us overruns %lld rejected %lld collisions %lld",
+              m.state.c_str(), m.rate_hz, m.step_us_p50, m.step_us_p99, static_cast<long long>(m.overruns),
+              static_cast<long long>(m.inputs_rejected), static_cast<long long>(m.collisions))
+IGMS_SEQ_TYPE(client_status_t, "%s %.0f Hz rtt p50/p99 %.0f/%.0f us misses %lld fallbacks %lld scale %.2f",
+              m.state.c_str(), m.rate_hz, m.rtt_us_p50, m.rtt_us_p99, static_cast<long long>(m.deadline_misses),
+              static_cast<long long>(m.fallbacks), m.force_scale)
+IGMS_SEQ_TYPE(command_t, "kind %d text '%s'", int{m.kind}, m.text.c_str())
+IGMS_SEQ_TYPE(heartbeat_t, "%s pid %d", m.process.c_str(), m.pid)
+
+template <>
+bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::session_info_t m;
+  if (m.decode(d, 0, n) < 0) return false;
+  *name = "session_info_t";
+  *line = "scene " + m.scene_path + ", " + m.clock + ", " + m.build_version;
+  *seq = -1;
+  return true;
+}
+template <>
+bool summarize<igms::trajectory_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::trajectory_t m;
+  if (m.decode(d, 0, n) < 0) return false;
+  *name = "trajectory_t";
+  *line = std::to_string(m.npoints) + " points of " + std::to_string(m.nq) + " coordinates";
+  *seq = -1;
+  return true;
+}
+
+struct Decoder {
+  int64_t hash;
+  bool (*fn)(const uint8_t*, int, std::string*, std::string*, int64_t*);
+};
+
+template <typename T>
+Decoder decoder() {
+  return {T::getHash(), &summarize<T>};
+}
+
+struct Channel {
+  int64_t count = 0, bytes = 0, undecodable = 0, seq_gaps = 0, last_seq = -1;
+  std::vector<double> arrivals;  // within the window
+  std::vector<int64_t> sizes;
+  std::string type, latest;
+  bool igms = false;
+};
+
+class Spy {
+ public:
+  explicit Spy(const std::string& filter) : filter_(filter) {
+    decoders_ = {decoder<igms::robot_state_t>(), decoder<igms::haptic_input_t>(), decoder<igms::server_status_t>(),
+                 decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
+                 decoder<igms::session_info_t>(), decoder<igms::trajectory_t>()};
+  }
+  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+    if (!std::regex_match(channel, filter_)) return;
+    const double t = now();
+    std::lock_guard<std::mutex> lock(mutex_);
+    Channel& c = channels_[channel];
+    ++c.count;
+    c.bytes += rbuf->data_size;
+    c.arrivals.push_back(t);
+    c.sizes.push_back(rbuf->data_size);
+    const auto* d = static_cast<const uint8_t*>(rbuf->data);
+    const int n = static_cast<int>(rbuf->data_size);
+    // Which igms type, by the fingerprint in the first 8 bytes.
+    const bool igms_channel = channel.rfind("IGMS_", 0) == 0;
+    int64_t hash = 0;
+    if (n >= 8)
+      for (int k = 0; k < 8; ++k) hash = (hash << 8) | d[k];
+    for (const auto& dec : decoders_) {
+      if (dec.hash != hash) continue;
+      std::string name, line;
+      int64_t seq = -1;
+      if (dec.fn(d, n, &name, &line, &seq)) {
+        c.type = name;
+        c.latest = line;
+        c.igms = true;
+        if (seq >= 0 && c.last_seq >= 0 && seq > c.last_seq + 1) c.seq_gaps += seq - c.last_seq - 1;
+        if (seq >= 0) c.last_seq = seq;
+        return;
+      }
+    }
+    if (igms_channel) ++c.undecodable;  // an igms channel carrying something else
+  }
+  // The snapshot over the last `window` seconds.
+  void print(double window, bool json, std::FILE* out) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double t = now();
+    if (json) std::fprintf(out, "{");
+    bool first = true;
+    for (auto& [name, c] : channels_) {
+      // Keep only the window's arrivals.
+      size_t keep = 0;
+      while (keep < c.arrivals.size() && c.arrivals[keep] < t - window) ++keep;
+      c.arrivals.erase(c.arrivals.begin(), c.arrivals.begin() + static_cast<long>(keep));
+      c.sizes.erase(c.sizes.begin(), c.sizes.begin() + static_cast<long>(keep));
+      const double rate = static_cast<double>(c.arrivals.size()) / window;
+      double bw = 0.0;
+      for (auto s : c.sizes) bw += static_cast<double>(s);
+      bw /= window;
+      std::vector<double> gaps;
+      for (size_t i = 1; i < c.arrivals.size(); ++i) gaps.push_back(c.arrivals[i] - c.arrivals[i - 1]);
+      double jitter = 0.0;  // p99 of |gap - median gap|, ms
+      if (gaps.size() > 2) {
+        std::vector<double> g = gaps;
+        std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+        const double med = g[g.size() / 2];
+        for (auto& x : gaps) x = std::abs(x - med);
+        std::sort(gaps.begin(), gaps.end());
+        jitter = 1e3 * gaps[static_cast<size_t>(0.99 * static_cast<double>(gaps.size() - 1))];
+      }
+      if (json) {
+        std::fprintf(out,
+                     "%s\"%s\": {\"count\": %lld, \"rate_hz\": %.3f, \"jitter_ms\": %.3f, \"bytes_per_s\": %.1f, "
+                     "\"seq_gaps\": %lld, \"undecodable\": %lld, \"type\": \"%s\"}",
+                     first ? "" : ", ", name.c_str(), static_cast<long long>(c.count), rate, jitter, bw,
+                     static_cast<long long>(c.seq_gaps), static_cast<long long>(c.undecodable), c.type.c_str());
+      } else {
+        if (first)
+          std::fprintf(out, "%-24s %9s %9s %9s %10s %6s %6s  %s\n", "channel", "count", "rate Hz", "jitter ms",
+                       "kB/s", "gaps", "bad", "type / latest");
+        std::fprintf(out, "%-24s %9lld %9.1f %9.3f %10.1f %6lld %6lld  %s\n", name.c_str(),
+                     static_cast<long long>(c.count), rate, jitter, bw / 1e3, static_cast<long long>(c.seq_gaps),
+                     static_cast<long long>(c.undecodable), c.type.empty() ? "(not an igms type)" : c.type.c_str());
+        if (!c.latest.empty()) std::fprintf(out, "%-24s   %s\n", "", c.latest.c_str());
+      }
+      first = false;
+    }
+    if (json) std::fprintf(out, "}\n");
+    if (first && !json) std::fprintf(out, "(no messages yet)\n");
+  }
+
+ private:
+  std::regex filter_;
+  std::mutex mutex_;
+  std::map<std::string, Channel> channels_;
+  std::vector<Decoder> decoders_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string url, filter = ".*";
+  bool once = false, json = false;
+  double window = 1.0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--lcm-url" && i + 1 < argc) url = argv[++i];
+    else if (a == "--once") once = true;
+    else if (a == "--json") json = true;
+    else if (a == "--window" && i + 1 < argc) window = std::atof(argv[++i]);
+    else if (a == "--channel" && i + 1 < argc) filter = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: igms-spy [--lcm-url URL] [--once] [--window S] [--json] [--channel REGEX]\n");
+      return a == "-h" || a == "--help" ? 0 : 2;
+    }
+  }
+  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  lcm::LCM bus(url.empty() ? igms::channels::kDefaultUrl : url);
+  if (!bus.good()) {
+    std::fprintf(stderr, "igms-spy: cannot open LCM\n");
+    return 2;
+  }
+  Spy spy(filter);
+  bus.subscribe(".*", &Spy::onMessage, &spy)->setQueueCapacity(100000);
+  const double start = now();
+  double next_draw = start + 0.5;
+  while (!g_stop) {
+    bus.handleTimeout(20);
+    const double t = now();
+    if (once && t - start >= window) {
+      spy.print(window, json, stdout);
+      return 0;
+    }
+    if (!once && t >= next_draw) {
+      std::printf("\033[H\033[2J");  // refresh in place
+      std::printf("igms-spy on %s (window %.1f s; Ctrl-C quits)\n\n", url.empty() ? igms::channels::kDefaultUrl : url.c_str(), window);
+      spy.print(window, json, stdout);
+      std::fflush(stdout);
+      next_draw = t + 0.5;
+    }
+  }
+  return 0;
+}
