@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Records the replay suite (tests/replay/data/*.lcmlog) with the real server,
+# client and logger, in a private network namespace:
+#   push     a scripted push on link 3
+#   pull     a scripted pull of the end-effector
+#   dropped  the push with 20 % of the server's replies dropped
+# First it shows how far the current build's re-simulation of the committed
+# logs moved; the new logs replace them only with --accept.
+#   scripts/record_replay_suite.sh [--accept]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [[ "${IGMS_IN_NETNS:-}" != "1" ]]; then exec scripts/netns_run.sh "$0" "$@"; fi
+accept=${1:-}
+out=out/replay_suite
+mkdir -p "$out"
+url="udpm://239.255.76.67:7795?ttl=0"
+channels='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|ROBOT_STATE_TRUTH)'
+
+record() {  # name script [server options...]
+  local name=$1 script=$2
+  shift 2
+  local only=$channels
+  [[ "$*" == *fault* ]] && only='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE_TRUTH)'
+  rm -f "$out/$name.lcmlog"
+  build/tools/igms-logger -o "$out/$name.lcmlog" -c "$only" --lcm-url "$url" -q --wait-session-s 5 &
+  local logger=$!
+  sleep 0.3
+  build/server/igms-server --scene scenes/puma_wall.yaml --clock lockstep --lcm-url "$url" --quiet "$@" &
+  local server=$!
+  sleep 0.3
+  build/haptic_client/igms-haptic --scene scenes/puma_wall.yaml --device "scripted:$script" --lcm-url "$url" --quiet
+  kill "$server"; wait "$server" || true
+  sleep 0.3
+  kill "$logger"; wait "$logger" || true
+  echo "recorded $out/$name.lcmlog ($(stat -c %s "$out/$name.lcmlog") bytes)"
+}
+
+record push tests/replay/push_short.yaml
+record pull tests/replay/pull_short.yaml
+record dropped tests/replay/push_short.yaml --fault-drop 0.2
+
+for name in push pull dropped; do
+  if [[ -f tests/replay/data/$name.lcmlog ]]; then
+    echo "== the committed $name log, re-simulated by this build:"
+    build/tools/igms-replay resim "tests/replay/data/$name.lcmlog" --tolerance 1e300 || true
+  fi
+done
+if [[ "$accept" == "--accept" ]]; then
+  cp "$out"/{push,pull,dropped}.lcmlog tests/replay/data/
+  echo "accepted: tests/replay/data/ now holds the new recordings"
+else
+  echo "not accepted: rerun with --accept to replace tests/replay/data/"
+fi
