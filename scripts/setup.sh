@@ -9,7 +9,7 @@ packages=(
   cmake ninja-build g++ pkg-config            # toolchain
   libeigen3-dev                               # dynamics core
   liburdfdom-dev libyaml-cpp-dev              # model loaders (URDF, DH tables, scenes)
-  liblcm-dev liblcm-bin                       # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy
+  liblcm-dev liblcm-bin liblcm-java           # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy (lcm.jar)
   libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
   liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
   libgtest-dev nlohmann-json3-dev             # tests, igms-dyn's JSON
