@@ -16,14 +16,12 @@
 #include "channels.h"
 #include "haptic_client/device/replay_device.h"
 #include "haptic_client/device/scripted_device.h"
-#include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/client_interaction.h"
 #include "haptic_client/servo/state_estimate.h"
 #include "igms/client_status_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
-#include "server/interaction/pull.h"
-#include "server/interaction/push.h"
 #include "server/model/model_loader.h"
 #include "server/scene/scene.h"
 #include "server/transport/triple_buffer.h"
@@ -260,25 +258,16 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
                  o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
 
-  const int pull_frame = model->frameIndex(scene.pull.link.empty() ? model->frames.back().name : scene.pull.link);
   const double period = 1.0 / o.rate_hz;
   const double sim_dt = scene.dt;
   lcm::LCM& lcm = bus.lcm();
   haptic_input_t msg{};
   msg.client_id = o.client_id;
   msg.tip_radius = scene.push.tip_radius;
-  StartupGuard guard;
-  LossRamp ramp;
-  ResyncBlend blend;
-  Vector3 last_force = Vector3::Zero(), last_attach = Vector3::Zero(), attach_velocity = Vector3::Zero();
-  double last_attach_time = -1.0;
-  bool pulling = false, push_engaged = false;
-  constexpr double kEngageDepth = 0.005;  // m
+  ClientInteraction interaction(*model, scene);
   int64_t consecutive = 0;
   double expected_time = 0.0;
   const DeviceLimits limits = device->limits();
-  TipContact contact;
-  int contact_frame = -1;
   std::vector<uint8_t> buffer(static_cast<size_t>(msg.getEncodedSize()) + 256);
 
   const double start = monotonic();
@@ -296,41 +285,13 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     const DeviceReading reading = device->read(t);
     const Vector3 tip = map.toScene(reading.position);
     const Vector3 tip_velocity = map.scale * reading.velocity;
-    const bool button = reading.buttons & 1;
 
     // 2. The input: pull while the button is held, push when the tip touches a link.
-    int8_t mode = haptic_input_t::MODE_NONE;
-    const bool was_pulling = pulling;
-    if (button && scene.pull.enabled && pull_frame >= 0) {
-      mode = haptic_input_t::MODE_PULL;
-      pulling = true;
-    } else {
-      pulling = false;
-      // Like the force, a push waits for the start-up guard: a tip that starts
-      // inside a link must leave it once before it can push.
-      if (scene.push.enabled && contact.touching && guard.armed()) mode = haptic_input_t::MODE_PUSH;
-    }
-    if (pulling != was_pulling) blend.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
+    interaction.fillInput(tip, tip_velocity, reading.buttons, links, msg);
     msg.utime = nowUs();
     msg.seq = k;
     msg.session_token = bus.token_;
-    msg.mode = mode;
-    for (int i = 0; i < 3; ++i) {
-      msg.tip_position[i] = tip[i];
-      msg.tip_velocity[i] = tip_velocity[i];
-    }
-    msg.buttons = reading.buttons;
-    msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model->frames[static_cast<size_t>(contact_frame)].name : "";
-    msg.penetration = mode == haptic_input_t::MODE_PUSH ? contact.depth : 0.0;
-    if (mode == haptic_input_t::MODE_PUSH) {
-      const Vector3 local = links[static_cast<size_t>(contact_frame)].inverse().act(contact.point);
-      for (int i = 0; i < 3; ++i) {
-        msg.contact_point[i] = local[i];
-        msg.contact_normal[i] = contact.normal[i];
-      }
-    }
-    msg.attach_link = mode == haptic_input_t::MODE_PULL ? model->frames[static_cast<size_t>(pull_frame)].name : "";
-    for (int i = 0; i < 3; ++i) msg.attach_point[i] = scene.pull.point[i];
+    const int8_t mode = msg.mode;
     msg.last_state_seq = estimate.any() ? estimate.newest().seq : -1;
     const int n = msg.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
     const double sent = monotonic();
@@ -361,8 +322,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
       estimate.estimate(expected_time, links, &fallback);
       if (fallback) ++stats.fallbacks;
     }
+    const bool resynced = on_time && consecutive >= 3;
     if (on_time) {
-      if (consecutive >= 3) blend.resync(10);  // back after a gap: 10 ms to the new force
       consecutive = 0;
     } else {
       ++stats.misses;
@@ -370,55 +331,15 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     }
 
     // 4. The force against the estimate; render its reaction.
-    Vector3 on_user = Vector3::Zero();
-    contact = TipContact{};
-    contact_frame = -1;
-    if (estimate.any()) {
-      const Vector3 x = links[static_cast<size_t>(pull_frame)].act(scene.pull.point);
-      // The attachment's velocity from the estimate's own time base: a held
-      // (fallback) cycle must not read as "stopped" and the next as "twice as fast".
-      if (expected_time > last_attach_time + 1e-9) {
-        // Differenced positions are noisy: a first-order low-pass (10 ms), as haptic loops do.
-        const double dt_est = expected_time - last_attach_time;
-        const double alpha = last_attach_time < 0 ? 0.0 : dt_est / (0.01 + dt_est);
-        attach_velocity += alpha * ((x - last_attach) / dt_est - attach_velocity);
-        last_attach = x;
-        last_attach_time = expected_time;
-      }
-      if (pulling) {
-        const Vector3& xd = attach_velocity;
-        const PullForce f = pullForce(scene.pull.k, scene.pull.b, scene.pull.max_stretch, scene.pull.max_force, tip,
-                                      tip_velocity, x, xd);
-        on_user = -f.on_robot;
-      } else if (scene.push.enabled) {
-        for (size_t f = 0; f < model->frames.size(); ++f) {
-          if (model->frames[f].body < 0) continue;
-          for (const auto& shape : model->frames[f].collisions) {
-            const TipContact c = tipContact(shape, links[f] * shape.placement, tip, scene.push.tip_radius);
-            if (c.touching && c.depth > contact.depth) {
-              contact = c;
-              contact_frame = static_cast<int>(f);
-            }
-          }
-        }
-        // A push starts at the surface: contact engages only when it begins
-        // shallow, and lasts until the tip leaves. A tip that appears deep
-        // inside (a jump, or a pull released inside the wrist) pushes nothing.
-        push_engaged = contact.touching && (push_engaged || contact.depth < kEngageDepth);
-        if (!push_engaged) contact = TipContact{};
-        if (contact.touching) on_user = -pushForce(contact, scene.push.k_p, scene.push.max_force).on_link;
-      }
-    }
+    const Vector3 on_user =
+        estimate.any() ? interaction.userForce(links, expected_time, tip, tip_velocity) : Vector3::Zero();
     // Lost: no state for lost_ms; the force ramps down, and back up when states return.
     const bool lost = estimate.any() && static_cast<double>(consecutive) * period * 1e3 > o.lost_ms;
     stats.lost = lost;
-    const double scale = ramp.update(lost, period);
-    const Vector3 rendered =
-        clampMagnitude(blend.apply(guard.apply(on_user) * scale, last_force), limits.max_force);
+    const Vector3 rendered = interaction.render(on_user, lost, resynced, period, limits.max_force);
     device->write(rendered);  // scene axes = device axes (the mapping scales positions only)
-    stats.max_force_step = std::max(stats.max_force_step.load(), (rendered - last_force).norm());
-    last_force = rendered;
-    stats.force_scale = scale;
+    stats.max_force_step = interaction.maxForceStep();
+    stats.force_scale = interaction.forceScale();
     stats.mode = mode;
     for (int i = 0; i < 3; ++i) stats.force[i] = rendered[i];
     stats.state_age_ms = static_cast<double>(consecutive) * period * 1e3;

@@ -1,0 +1,94 @@
+#include "haptic_client/servo/client_interaction.h"
+
+namespace igms {
+
+ClientInteraction::ClientInteraction(const Model& model, const Scene& scene) : model_(model), scene_(scene) {
+  pull_frame_ = model.frameIndex(scene.pull.link.empty() ? model.frames.back().name : scene.pull.link);
+}
+
+void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons,
+                                  const std::vector<SE3>& links, haptic_input_t& msg) {
+  // Pull while the button is held; push when the tip touches a link. Like the
+  // force, a push waits for the start-up guard: a tip that starts inside a
+  // link must leave it once before it can push.
+  int8_t mode = haptic_input_t::MODE_NONE;
+  const bool was_pulling = pulling_;
+  pulling_ = (buttons & 1) && scene_.pull.enabled && pull_frame_ >= 0;
+  if (pulling_) mode = haptic_input_t::MODE_PULL;
+  else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
+  if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
+  msg.mode = mode;
+  for (int i = 0; i < 3; ++i) {
+    msg.tip_position[i] = tip[i];
+    msg.tip_velocity[i] = tip_velocity[i];
+  }
+  msg.tip_radius = scene_.push.tip_radius;
+  msg.buttons = buttons;
+  msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model_.frames[static_cast<size_t>(contact_frame_)].name : "";
+  msg.penetration = mode == haptic_input_t::MODE_PUSH ? contact_.depth : 0.0;
+  for (int i = 0; i < 3; ++i) msg.contact_point[i] = msg.contact_normal[i] = 0.0;
+  if (mode == haptic_input_t::MODE_PUSH) {
+    const Vector3 local = links[static_cast<size_t>(contact_frame_)].inverse().act(contact_.point);
+    for (int i = 0; i < 3; ++i) {
+      msg.contact_point[i] = local[i];
+      msg.contact_normal[i] = contact_.normal[i];
+    }
+  }
+  msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(pull_frame_)].name : "";
+  for (int i = 0; i < 3; ++i) msg.attach_point[i] = scene_.pull.point[i];
+}
+
+Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
+                                     const Vector3& tip_velocity) {
+  Vector3 on_user = Vector3::Zero();
+  contact_ = TipContact{};
+  contact_frame_ = -1;
+  if (pull_frame_ >= 0) {
+    const Vector3 x = links[static_cast<size_t>(pull_frame_)].act(scene_.pull.point);
+    // The attachment's velocity from the estimate's own time base (a held
+    // fallback cycle must not read as "stopped"), low-passed at 10 ms as
+    // haptic loops do with differenced positions.
+    if (estimate_time > last_attach_time_ + 1e-9) {
+      const double dt = estimate_time - last_attach_time_;
+      const double alpha = last_attach_time_ < 0 ? 0.0 : dt / (0.01 + dt);
+      attach_velocity_ += alpha * ((x - last_attach_) / dt - attach_velocity_);
+      last_attach_ = x;
+      last_attach_time_ = estimate_time;
+    }
+    if (pulling_) {
+      const PullForce f = pullForce(scene_.pull.k, scene_.pull.b, scene_.pull.max_stretch, scene_.pull.max_force, tip,
+                                    tip_velocity, x, attach_velocity_);
+      return -f.on_robot;
+    }
+  }
+  if (!scene_.push.enabled) return on_user;
+  for (size_t f = 0; f < model_.frames.size(); ++f) {
+    if (model_.frames[f].body < 0) continue;
+    for (const auto& shape : model_.frames[f].collisions) {
+      const TipContact c = tipContact(shape, links[f] * shape.placement, tip, scene_.push.tip_radius);
+      if (c.touching && c.depth > contact_.depth) {
+        contact_ = c;
+        contact_frame_ = static_cast<int>(f);
+      }
+    }
+  }
+  // A push starts at the surface: contact engages only when it begins
+  // shallow, and lasts until the tip leaves. A tip that appears deep inside
+  // (a jump, or a pull released inside the wrist) pushes nothing.
+  push_engaged_ = contact_.touching && (push_engaged_ || contact_.depth < kEngageDepth);
+  if (!push_engaged_) contact_ = TipContact{};
+  if (contact_.touching) on_user = -pushForce(contact_, scene_.push.k_p, scene_.push.max_force).on_link;
+  return on_user;
+}
+
+Vector3 ClientInteraction::render(const Vector3& on_user, bool lost, bool resynced_after_gap, double period,
+                                  double max_force) {
+  if (resynced_after_gap) blend_.resync(10);  // back after a gap: 10 ms to the new force
+  const double scale = ramp_.update(lost, period);
+  const Vector3 rendered = clampMagnitude(blend_.apply(guard_.apply(on_user) * scale, last_force_), max_force);
+  max_force_step_ = std::max(max_force_step_, (rendered - last_force_).norm());
+  last_force_ = rendered;
+  return rendered;
+}
+
+}  // namespace igms

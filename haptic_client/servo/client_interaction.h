@@ -1,0 +1,52 @@
+// The client's side of push and pull (Son et al. 2003, section IV.2): what
+// each servo cycle sends, the force on the user against an estimate of the
+// robot, and the guards between that force and the hand. Shared by the
+// networked client (igms-haptic) and the in-process scenario runner.
+#pragma once
+
+#include <vector>
+
+#include "haptic_client/servo/force_render.h"
+#include "igms/haptic_input_t.hpp"
+#include "server/interaction/pull.h"
+#include "server/interaction/push.h"
+#include "server/scene/scene.h"
+
+namespace igms {
+
+class ClientInteraction {
+ public:
+  ClientInteraction(const Model& model, const Scene& scene);
+
+  // Step 2 of a cycle: the input (mode, tip, contact as seen against `links`,
+  // attachment) from the device and the contact found in the last cycle.
+  void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, const std::vector<SE3>& links,
+                 haptic_input_t& msg);
+  // Step 4: the force on the user (the reaction to c or F) against the
+  // estimate `links` at simulated time `estimate_time`.
+  Vector3 userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
+                    const Vector3& tip_velocity);
+  // Guards: start-up guard, loss ramp, resync blend (after `resynced`), clamp.
+  Vector3 render(const Vector3& on_user, bool lost, bool resynced_after_gap, double period, double max_force);
+
+  bool pulling() const { return pulling_; }
+  double forceScale() const { return ramp_.scale(); }
+  double maxForceStep() const { return max_force_step_; }
+
+ private:
+  const Model& model_;
+  const Scene& scene_;
+  int pull_frame_ = -1;
+  StartupGuard guard_;
+  LossRamp ramp_;
+  ResyncBlend blend_;
+  bool pulling_ = false, push_engaged_ = false;
+  TipContact contact_;
+  int contact_frame_ = -1;
+  Vector3 last_force_ = Vector3::Zero(), last_attach_ = Vector3::Zero(), attach_velocity_ = Vector3::Zero();
+  double last_attach_time_ = -1.0;
+  double max_force_step_ = 0.0;
+  static constexpr double kEngageDepth = 0.005;  // m: a push starts at the surface
+};
+
+}  // namespace igms

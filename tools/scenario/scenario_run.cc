@@ -1,0 +1,94 @@
+#include "tools/scenario/scenario_run.h"
+
+#include "haptic_client/device/scripted_device.h"
+#include "haptic_client/servo/client_interaction.h"
+#include "server/collision/collision_world.h"
+#include "server/loop/simulation.h"
+#include "server/transport/input_gate.h"
+
+#include <memory>
+
+namespace igms {
+
+ScenarioResult runScenario(const Scene& scene, const std::string& script, double seconds,
+                           const std::string& save_edited, double reach_tolerance) {
+  ScenarioResult out;
+  Simulation sim(scene);
+  const Model& model = sim.model();
+  std::vector<Obstacle> others;  // every obstacle but the wall the motion is meant to reach
+  for (const auto& o : scene.obstacles)
+    if (o.name != "wall") others.push_back(o);
+  CollisionWorld all(model, scene.obstacles), not_wall(model, others);
+  ClientInteraction client(model, scene);
+  std::vector<SE3> links = sim.linkPoses();
+  std::unique_ptr<ScriptedDevice> device;  // none: no haptic input at all (the nominal run)
+  if (!script.empty())
+    device = std::make_unique<ScriptedDevice>(script, WorkspaceMap{scene.workspace_scale, scene.workspace_offset},
+                                              [&](const std::string& name, SE3* X) {
+                                                const int f = model.frameIndex(name);
+                                                if (f < 0) return false;
+                                                *X = links[static_cast<size_t>(f)];
+                                                return true;
+                                              });
+  const int ee = model.frameIndex(scene.trajectory.frame.empty() ? model.frames.back().name : scene.trajectory.frame);
+  const double period = scene.dt;
+  haptic_input_t msg{};
+  InteractionInput input;
+  const int steps = static_cast<int>(seconds / period + 0.5);
+  int last_mode = 0;
+  for (int k = 1; k <= steps; ++k) {
+    const double t = (k - 1) * period;
+    const DeviceReading r = device ? device->read(t) : DeviceReading{};
+    const WorkspaceMap map{scene.workspace_scale, scene.workspace_offset};
+    const Vector3 tip = map.toScene(r.position), tip_velocity = map.scale * r.velocity;
+    client.fillInput(tip, tip_velocity, r.buttons, links, msg);
+    msg.seq = k;
+    RejectReason why;
+    const bool ok = device && toInteractionInput(msg, model, &input, &why);  // as the server would see it
+    if (!sim.step(ok ? &input : nullptr)) {
+      out.diverged = true;
+      break;
+    }
+    links = sim.linkPoses();
+    const Vector3 on_user = device ? client.userForce(links, sim.time(), tip, tip_velocity) : Vector3::Zero();
+    const Vector3 rendered = client.render(on_user, false, false, period, 1e9);
+    if (device) device->write(rendered);
+    ScenarioSample s;
+    s.t = sim.time();
+    s.q.assign(sim.q().data(), sim.q().data() + sim.q().size());
+    s.mode = static_cast<int>(sim.outcome().mode);
+    s.force_on_robot = sim.outcome().force_on_robot;
+    s.ee = ee >= 0 ? links[static_cast<size_t>(ee)].p : Vector3::Zero();
+    const CollisionReport c = all.check(links), cn = not_wall.check(links);
+    s.min_obstacle_distance = c.min_distance;
+    s.in_collision = cn.in_collision;
+    out.min_distance = std::min(out.min_distance, c.min_distance);
+    out.min_distance_excluding_goal = std::min(out.min_distance_excluding_goal, cn.min_distance);
+    if (cn.in_collision) {
+      ++out.collision_steps;
+      if (out.first_collision < 0) {
+        out.first_collision = s.t;
+        out.first_collision_what = cn.closest_link + " hits " + cn.closest_obstacle;
+      }
+    }
+    if (out.reached_wall_time < 0 && scene.trajectory.kind == TrajectorySpec::Kind::CartesianLine &&
+        (s.ee - scene.trajectory.target).norm() <= reach_tolerance)
+      out.reached_wall_time = s.t;
+    out.max_user_force = std::max(out.max_user_force, rendered.norm());
+    out.max_robot_force = std::max(out.max_robot_force, s.force_on_robot.norm());
+    if (s.mode != last_mode) {
+      if (s.mode) {
+        out.interactions.push_back({s.t, s.t});
+        out.interaction_modes.push_back(s.mode);
+      }
+      last_mode = s.mode;
+    }
+    if (s.mode && !out.interactions.empty()) out.interactions.back().second = s.t;
+    out.final_ee = s.ee;
+    out.samples.push_back(std::move(s));
+  }
+  if (!save_edited.empty()) sim.saveEditedTrajectory(save_edited);
+  return out;
+}
+
+}  // namespace igms

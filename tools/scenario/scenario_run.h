@@ -1,0 +1,44 @@
+// A scene and a device script, run in-process: the client's logic (device,
+// push and pull, rendering) driving the server's step in lockstep, with no
+// network and no clock. Deterministic; used to design and test the paper's
+// experiments, and by the demo's summary.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "server/scene/scene.h"
+
+namespace igms {
+
+struct ScenarioSample {
+  double t;
+  std::vector<double> q;
+  int mode;
+  Vector3 force_on_robot, ee;
+  double min_obstacle_distance;
+  bool in_collision;
+};
+
+struct ScenarioResult {
+  std::vector<ScenarioSample> samples;   // every step
+  int64_t collision_steps = 0;
+  double first_collision = -1.0;         // s
+  std::string first_collision_what;      // "link3 hits obstacle"
+  double min_distance = 1e9;             // robot vs obstacles other than the wall... see below
+  double min_distance_excluding_goal = 1e9;  // ignoring the obstacle named "wall" (the goal is to touch it)
+  double reached_wall_time = -1.0;       // s when the end-effector first came within reach_tolerance of the target
+  Vector3 final_ee = Vector3::Zero();
+  double max_user_force = 0.0;           // N, |force rendered to the user|
+  double max_robot_force = 0.0;          // N, |force applied to the robot|
+  std::vector<std::pair<double, double>> interactions;  // [start, end] s of each push or pull
+  std::vector<int> interaction_modes;
+  bool diverged = false;
+};
+
+// Runs `seconds` of the scene with the device script (scripted:FILE) at the
+// scene's rate. save_edited: write the executed trajectory there (optional).
+ScenarioResult runScenario(const Scene& scene, const std::string& device_script, double seconds,
+                           const std::string& save_edited = "", double reach_tolerance = 0.01);
+
+}  // namespace igms
