@@ -189,7 +189,15 @@ int exportCsv(const std::string& path, const std::string& dir) {
   states.precision(17);
   inputs.precision(17);
   bool header = false;
-  std::vector<std::string> links;
+  std::vector<std::string> links;  // the state's link order, from any server status in the log
+  for (const auto& e : c.events) {
+    igms::server_status_t st;
+    if (e.channel == igms::channels::kServerStatus &&
+        st.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) {
+      links = st.link_names;
+      break;
+    }
+  }
   for (const auto& e : c.events) {
     const auto* d = e.data.data();
     const int n = static_cast<int>(e.data.size());
@@ -204,7 +212,6 @@ int exportCsv(const std::string& path, const std::string& dir) {
     } else if (e.channel == igms::channels::kServerStatus) {
       igms::server_status_t s;
       if (s.decode(d, 0, n) < 0) continue;
-      if (links.empty()) links = s.link_names;
       server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
              << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
              << "," << s.first_collision_time << "," << s.min_obstacle_distance << "\n";

@@ -26,11 +26,11 @@ int main(int argc, char** argv) {
     const igms::Scene scene = igms::loadScene(scene_path);
     const std::string script = device.rfind("scripted:", 0) == 0 ? device.substr(9) : "";
     const igms::ScenarioResult r = igms::runScenario(scene, script, seconds, save);
-    std::printf("{\"collision_steps\": %lld, \"first_collision\": %.3f, \"first_collision_what\": \"%s\", "
+    std::printf("{\"collision_steps_all\": %lld, \"min_distance_all\": %.4f, \"collision_steps\": %lld, \"first_collision\": %.3f, \"first_collision_what\": \"%s\", "
                 "\"min_distance_excluding_wall\": %.4f, \"reached_wall_time\": %.3f, "
                 "\"final_ee\": [%.4f, %.4f, %.4f], \"max_user_force\": %.3f, \"max_robot_force\": %.3f, "
                 "\"diverged\": %s, \"interactions\": [",
-                static_cast<long long>(r.collision_steps), r.first_collision, r.first_collision_what.c_str(),
+                static_cast<long long>(r.collision_steps_all), r.min_distance, static_cast<long long>(r.collision_steps), r.first_collision, r.first_collision_what.c_str(),
                 r.min_distance_excluding_goal, r.reached_wall_time, r.final_ee.x(), r.final_ee.y(), r.final_ee.z(),
                 r.max_user_force, r.max_robot_force, r.diverged ? "true" : "false");
     for (size_t i = 0; i < r.interactions.size(); ++i)

@@ -63,6 +63,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     s.min_obstacle_distance = c.min_distance;
     s.in_collision = cn.in_collision;
     out.min_distance = std::min(out.min_distance, c.min_distance);
+    if (c.in_collision) ++out.collision_steps_all;
     out.min_distance_excluding_goal = std::min(out.min_distance_excluding_goal, cn.min_distance);
     if (cn.in_collision) {
       ++out.collision_steps;

@@ -22,7 +22,8 @@ struct ScenarioSample {
 
 struct ScenarioResult {
   std::vector<ScenarioSample> samples;   // every step
-  int64_t collision_steps = 0;
+  int64_t collision_steps = 0;           // with obstacles other than the wall
+  int64_t collision_steps_all = 0;       // with anything, the wall included
   double first_collision = -1.0;         // s
   std::string first_collision_what;      // "link3 hits obstacle"
   double min_distance = 1e9;             // robot vs obstacles other than the wall... see below
