@@ -4,6 +4,7 @@
 #   push     a scripted push on link 3
 #   pull     a scripted pull of the end-effector
 #   dropped  the push with 20 % of the server's replies dropped
+#   paper_push, paper_pull  the paper's experiments (scenes/puma_obstacle.yaml), gzip-compressed
 # First it shows how far the current build's re-simulation of the committed
 # logs moved; the new logs replace them only with --accept.
 #   scripts/record_replay_suite.sh [--accept]
@@ -19,34 +20,37 @@ channels='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|ROBOT_STATE_TRUTH)'
 record() {  # name script [server options...]
   local name=$1 script=$2
   shift 2
+  local scene=scenes/puma_wall.yaml seconds=""
+  if [[ $name == paper_* ]]; then scene=scenes/puma_obstacle.yaml; seconds="--duration 6"; fi
   local only=$channels
   [[ "$*" == *fault* ]] && only='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE_TRUTH)'
   rm -f "$out/$name.lcmlog"
   build/tools/igms-logger -o "$out/$name.lcmlog" -c "$only" --lcm-url "$url" -q --wait-session-s 5 &
   local logger=$!
   sleep 0.3
-  build/server/igms-server --scene scenes/puma_wall.yaml --clock lockstep --lcm-url "$url" --quiet "$@" &
+  build/server/igms-server --scene $scene --clock lockstep --lcm-url "$url" --quiet "$@" &
   local server=$!
   sleep 0.3
-  build/haptic_client/igms-haptic --scene scenes/puma_wall.yaml --device "scripted:$script" --lcm-url "$url" --quiet
+  build/haptic_client/igms-haptic --scene $scene --device "scripted:$script" --lcm-url "$url" --quiet $seconds
   kill "$server"; wait "$server" || true
   sleep 0.3
   kill "$logger"; wait "$logger" || true
-  echo "recorded $out/$name.lcmlog ($(stat -c %s "$out/$name.lcmlog") bytes)"
+  if [[ $name == paper_* ]]; then gzip -f "$out/$name.lcmlog"; fi
+  echo "recorded $name"
 }
 
 record push tests/replay/push_short.yaml
 record pull tests/replay/pull_short.yaml
 record dropped tests/replay/push_short.yaml --fault-drop 0.2
+record paper_push scenes/paper_push.yaml
+record paper_pull scenes/paper_pull.yaml
 
-for name in push pull dropped; do
-  if [[ -f tests/replay/data/$name.lcmlog ]]; then
-    echo "== the committed $name log, re-simulated by this build:"
-    build/tools/igms-replay resim "tests/replay/data/$name.lcmlog" --tolerance 1e300 || true
-  fi
+for log in tests/replay/data/*.lcmlog*; do
+  echo "== the committed $log, re-simulated by this build:"
+  build/tools/igms-replay resim "$log" --tolerance 1e300 || true
 done
 if [[ "$accept" == "--accept" ]]; then
-  cp "$out"/{push,pull,dropped}.lcmlog tests/replay/data/
+  cp "$out"/{push,pull,dropped}.lcmlog "$out"/paper_{push,pull}.lcmlog.gz tests/replay/data/
   echo "accepted: tests/replay/data/ now holds the new recordings"
 else
   echo "not accepted: rerun with --accept to replace tests/replay/data/"

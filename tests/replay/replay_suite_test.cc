@@ -1,5 +1,6 @@
 // The replay suite: committed sessions recorded with the real server and
-// client (a push, a pull, a push with 20 % of replies dropped), re-simulated
+// client (a push, a pull, a push with 20 % of replies dropped, and the
+// paper's push and pull experiments, gzip-compressed), re-simulated
 // offline. The deviation from the recording stays within tolerance, and two
 // re-simulations of one log give identical bits. When a change of behaviour
 // is intended, re-record with scripts/record_replay_suite.sh (it shows the
@@ -21,7 +22,7 @@ constexpr double kTolerance = 1e-9;
 class ReplaySuite : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ReplaySuite, ResimulationMatchesTheRecording) {
-  const std::string path = sourceDir() + "/tests/replay/data/" + GetParam() + ".lcmlog";
+  const std::string path = sourceDir() + "/tests/replay/data/" + GetParam();
   const log::LogContents log = log::readAll(path);
   ASSERT_FALSE(log.damaged) << log.error;
   const ResimResult r = resimulate(log.events, sourceDir());
@@ -33,7 +34,7 @@ TEST_P(ReplaySuite, ResimulationMatchesTheRecording) {
 }
 
 TEST_P(ReplaySuite, TwoResimulationsGiveIdenticalBits) {
-  const std::string path = sourceDir() + "/tests/replay/data/" + GetParam() + ".lcmlog";
+  const std::string path = sourceDir() + "/tests/replay/data/" + GetParam();
   const log::LogContents log = log::readAll(path);
   const ResimResult a = resimulate(log.events, sourceDir()), b = resimulate(log.events, sourceDir());
   ASSERT_TRUE(a.ok && b.ok);
@@ -42,7 +43,13 @@ TEST_P(ReplaySuite, TwoResimulationsGiveIdenticalBits) {
   EXPECT_EQ(a.steps, b.steps);
 }
 
-INSTANTIATE_TEST_SUITE_P(Sessions, ReplaySuite, ::testing::Values("push", "pull", "dropped"));
+INSTANTIATE_TEST_SUITE_P(Sessions, ReplaySuite,
+                         ::testing::Values("push.lcmlog", "pull.lcmlog", "dropped.lcmlog", "paper_push.lcmlog.gz",
+                                           "paper_pull.lcmlog.gz"),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           return n.substr(0, n.find('.'));
+                         });
 
 }  // namespace
 }  // namespace igms::test

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include <zlib.h>
+
 namespace igms::log {
 namespace {
 
@@ -48,23 +50,25 @@ void LogWriter::write(int64_t utime, const std::string& channel, const uint8_t* 
 
 void LogWriter::flush() { std::fflush(file_); }
 
-LogReader::LogReader(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
+// zlib reads gzip-compressed logs (*.lcmlog.gz) and plain ones alike.
+LogReader::LogReader(const std::string& path) : path_(path), file_(gzopen(path.c_str(), "rb")) {
   if (!file_) throw LogError(path + ": cannot open the log: " + std::strerror(errno), 0);
 }
 
 LogReader::~LogReader() {
-  if (file_) std::fclose(file_);
+  if (file_) gzclose(static_cast<gzFile>(file_));
 }
 
 void LogReader::rewind() {
-  std::fseek(file_, 0, SEEK_SET);
+  gzrewind(static_cast<gzFile>(file_));
   offset_ = 0;
 }
 
 bool LogReader::next(Event* e) {
   uint8_t header[28];
-  const size_t got = std::fread(header, 1, sizeof header, file_);
-  if (got == 0) return false;
+  const int read = gzread(static_cast<gzFile>(file_), header, sizeof header);
+  if (read <= 0) return false;
+  const auto got = static_cast<size_t>(read);
   const uint64_t at = offset_;
   auto fail = [&](const std::string& what) -> bool {
     throw LogError(path_ + ": byte " + std::to_string(at) + ": " + what, at);
@@ -79,8 +83,10 @@ bool LogReader::next(Event* e) {
   e->utime = static_cast<int64_t>(get64(header + 12));
   e->channel.resize(static_cast<size_t>(channel_len));
   e->data.resize(static_cast<size_t>(data_len));
-  if (std::fread(e->channel.data(), 1, e->channel.size(), file_) != e->channel.size() ||
-      (data_len && std::fread(e->data.data(), 1, e->data.size(), file_) != e->data.size()))
+  auto readAll = [&](void* dst, size_t n) {
+    return gzread(static_cast<gzFile>(file_), dst, static_cast<unsigned>(n)) == static_cast<int>(n);
+  };
+  if (!readAll(e->channel.data(), e->channel.size()) || (data_len && !readAll(e->data.data(), e->data.size())))
     fail("truncated event (channel '" + e->channel.substr(0, 40) + "', " + std::to_string(data_len) + " data bytes)");
   e->offset = at;
   offset_ += sizeof header + static_cast<uint64_t>(channel_len) + static_cast<uint64_t>(data_len);

@@ -3,6 +3,8 @@
 // damaged log names the byte offset of the damage and everything before it
 // stays usable.
 //
+// The reader also takes gzip-compressed logs (*.lcmlog.gz), transparently.
+//
 // Each event, big-endian: sync word 0xEDA1DA01, event number (int64),
 // timestamp in microseconds (int64), channel length (int32), data length
 // (int32), channel bytes, data bytes.
@@ -65,7 +67,7 @@ class LogReader {
 
  private:
   std::string path_;
-  std::FILE* file_ = nullptr;
+  void* file_ = nullptr;  // a zlib gzFile
   uint64_t offset_ = 0;
 };
 
