@@ -24,20 +24,11 @@
 #include "igms/server_status_t.hpp"
 #include "server/model/model_loader.h"
 #include "server/scene/scene.h"
+#include "server/transport/clock.h"
 #include "server/transport/triple_buffer.h"
 
 namespace igms {
 namespace {
-
-double monotonic() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-int64_t nowUs() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 struct Received {
   RobotSample sample;
@@ -124,7 +115,7 @@ class Bus {
       s.links[k].R = Eigen::Quaterniond(p[3], p[4], p[5], p[6]).normalized().toRotationMatrix();
     }
     std::copy(m->q.begin(), m->q.end(), s.q.begin());
-    r.received = monotonic();
+    r.received = monotonicSeconds();
     states_.publish();
   }
   void onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m) {
@@ -194,13 +185,13 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   static Stats stats;  // large (histograms): static storage, one client per process
   std::atomic<bool> bus_stop{false};
   std::thread bus_thread([&] {
-    double next_status = monotonic() + 0.1;
+    double next_status = monotonicSeconds() + 0.1;
     int64_t seq = 0, last_cycles = 0;
     bool was_lost = false;
-    double last_t = monotonic();
+    double last_t = monotonicSeconds();
     while (!bus_stop) {
       bus.lcm().handleTimeout(5);
-      const double now = monotonic();
+      const double now = monotonicSeconds();
       if (stats.lost != was_lost) {  // said here, not in the servo loop (no I/O there)
         was_lost = stats.lost;
         if (was_lost) std::fprintf(stderr, "igms-haptic: server lost (no state for %.0f ms): forces ramping down\n", o.lost_ms);
@@ -209,7 +200,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
       if (now < next_status) continue;
       next_status += 0.1;
       client_status_t s;
-      s.utime = nowUs();
+      s.utime = wallMicros();
       s.seq = seq++;
       s.client_id = o.client_id;
       s.device = device->name();
@@ -241,9 +232,9 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   };
 
   // Wait for the server (its session token and link order).
-  const double t_connect = monotonic();
+  const double t_connect = monotonicSeconds();
   while (!bus.have_token_ && !stop) {
-    if (monotonic() - t_connect > o.connect_timeout) {
+    if (monotonicSeconds() - t_connect > o.connect_timeout) {
       std::fprintf(stderr, "igms-haptic: no server status on the bus within %.0f s\n", o.connect_timeout);
       return finish(3);
     }
@@ -270,14 +261,14 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   const DeviceLimits limits = device->limits();
   std::vector<uint8_t> buffer(static_cast<size_t>(msg.getEncodedSize()) + 256);
 
-  const double start = monotonic();
+  const double start = monotonicSeconds();
   timespec next;
   clock_gettime(CLOCK_MONOTONIC, &next);
   for (int64_t k = 1; !stop; ++k) {
     const double t = static_cast<double>(k - 1) * period;
     if ((o.duration > 0 && t >= o.duration) || (o.duration <= 0 && device->finished(t))) break;
     clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next, nullptr);
-    const double cycle_start = monotonic();
+    const double cycle_start = monotonicSeconds();
     stats.jitter.push(std::abs(cycle_start - (start + t)) * 1e6);
     stats.jitter_all.add(std::abs(cycle_start - (start + t)) * 1e6);
 
@@ -288,13 +279,13 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
 
     // 2. The input: pull while the button is held, push when the tip touches a link.
     interaction.fillInput(tip, tip_velocity, reading.buttons, links, msg);
-    msg.utime = nowUs();
+    msg.utime = wallMicros();
     msg.seq = k;
     msg.session_token = bus.token_;
     const int8_t mode = msg.mode;
     msg.last_state_seq = estimate.any() ? estimate.newest().seq : -1;
     const int n = msg.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
-    const double sent = monotonic();
+    const double sent = monotonicSeconds();
     if (n > 0) lcm.publish(channels::kHapticInput, buffer.data(), static_cast<unsigned>(n));
 
     // 3. This cycle's state, until the deadline.
@@ -310,7 +301,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
           stats.rtt_all.add((r->received - sent) * 1e6);
         }
       }
-      if (on_time || monotonic() >= deadline) break;
+      if (on_time || monotonicSeconds() >= deadline) break;
       // Within the deadline window: yield rather than sleep (a sleep's wake-up
       // costs tens of microseconds on a VM), so the bus thread runs at once.
       sched_yield();
@@ -351,7 +342,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
       ++next.tv_sec;
     }
   }
-  const double wall = monotonic() - start;
+  const double wall = monotonicSeconds() - start;
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
   if (!o.quiet)

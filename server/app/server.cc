@@ -27,21 +27,11 @@
 #include "server/collision/collision_world.h"
 #include "server/loop/snapshot.h"
 #include "server/transport/input_gate.h"
+#include "server/transport/clock.h"
 #include "server/transport/latest_value.h"
 
 namespace igms {
 namespace {
-
-int64_t nowUs() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
-double monotonic() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // The newest admitted input, with the time it arrived.
 struct TimedInput {
@@ -99,8 +89,8 @@ class Publisher {
   void start(bool threaded) {
     sem_init(&ready_, 0, 0);
     if (threaded) thread_ = std::thread([this] { loop(); });
-    next_status_ = monotonic() + 0.1;
-    window_start_ = monotonic();
+    next_status_ = monotonicSeconds() + 0.1;
+    window_start_ = monotonicSeconds();
   }
   void finish() {
     done_ = true;
@@ -113,7 +103,7 @@ class Publisher {
   // anything was published.
   bool pump() {
     if (info_due_.exchange(false)) {
-      info_.utime = nowUs();
+      info_.utime = wallMicros();
       info_.session_token = info_token_;
       bus_.publish(channels::kSessionInfo, &info_);
     }
@@ -123,7 +113,7 @@ class Publisher {
       ring_.endRead();
       any = true;
     }
-    if (monotonic() >= next_status_) {
+    if (monotonicSeconds() >= next_status_) {
       publishStatus();
       next_status_ += 0.1;
     }
@@ -150,7 +140,7 @@ class Publisher {
 
   void publishStatus() {
     server_status_t s;
-    s.utime = nowUs();
+    s.utime = wallMicros();
     s.seq = status_seq_++;
     {
       std::lock_guard<std::mutex> lock(shared_.mutex);
@@ -168,7 +158,7 @@ class Publisher {
     }
     s.sim_time = last_sim_time_;
     s.steps = steps.load();
-    const double now = monotonic();
+    const double now = monotonicSeconds();
     const double window = now - window_start_;
     s.rate_hz = window > 0 ? static_cast<double>(window_steps_) / window : 0.0;
     std::vector<double> t = step_times_;
@@ -266,7 +256,7 @@ class Publisher {
   bool faultDrops() {
     if (options_.fault_drop > 0 && uniform_(rng_) < options_.fault_drop) return true;
     if (options_.fault_burst_ms > 0) {
-      const double phase = std::fmod(monotonic() - fault_epoch_, 1.0);
+      const double phase = std::fmod(monotonicSeconds() - fault_epoch_, 1.0);
       if (phase < options_.fault_burst_ms * 1e-3) return true;
     }
     return false;
@@ -309,7 +299,7 @@ class Publisher {
   sem_t ready_;
   std::mt19937 rng_{12345};
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
-  double fault_epoch_ = monotonic();
+  double fault_epoch_ = monotonicSeconds();
 };
 
 // The bus thread's handlers.
@@ -327,7 +317,7 @@ class BusHandler {
     TimedInput in;
     RejectReason why;
     if (!shared_.gate->admit(msg, &in.input, &why)) return;
-    in.arrived = monotonic();
+    in.arrived = monotonicSeconds();
     shared_.input.write(in);
     ++shared_.accepted;
     sem_post(&shared_.input_ready);
@@ -405,7 +395,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     publisher.start(!lockstep);
     auto publishSnapshot = [&](int32_t step_us) {
       if (Snapshot* slot = ring.beginWrite()) {
-        takeSnapshot(*sim, nowUs(), step_us, *slot);
+        takeSnapshot(*sim, wallMicros(), step_us, *slot);
         ring.endWrite();
         publisher.notify();
       } else {
@@ -494,10 +484,10 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
           consumed_version = version;
           ++publisher.consumed_inputs;
         }
-        const bool fresh = version > 0 && (lockstep || monotonic() - latest.arrived <= options.input_hold);
-        const double t0 = monotonic();
+        const bool fresh = version > 0 && (lockstep || monotonicSeconds() - latest.arrived <= options.input_hold);
+        const double t0 = monotonicSeconds();
         const bool ok = sim->step(fresh ? &latest.input : nullptr);
-        const int32_t step_us = static_cast<int32_t>((monotonic() - t0) * 1e6);
+        const int32_t step_us = static_cast<int32_t>((monotonicSeconds() - t0) * 1e6);
         if (sim->outcome().clamped) ++publisher.forces_clamped;
         ++publisher.steps;
         publishSnapshot(step_us);
@@ -540,7 +530,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     if (!reload) {
       // Publish the edited trajectory on the bus too.
       trajectory_t traj;
-      traj.utime = nowUs();
+      traj.utime = wallMicros();
       traj.nq = sim->model().nq;
       for (int j = 0; j < sim->model().nq; ++j) traj.joint_names.push_back("q" + std::to_string(j));
       for (int k = 0; k < sim->editedCount(); ++k) {
