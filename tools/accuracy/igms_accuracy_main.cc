@@ -4,12 +4,14 @@
 // RK4 at 1/128 ms (the step-halving difference is printed); every method then
 // runs at h = 1/64 ms ... 32 ms (doubling; --quick: 0.25 ms ... 4 ms) and each
 // row gives its errors against the truth and its run time per simulated second.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "tools/accuracy/accuracy.h"
+#include "tools/accuracy/stiffness.h"
 
 using namespace igms::accuracy;
 
@@ -23,8 +25,29 @@ int main(int argc, char** argv) {
     else if (a == "--quick") quick = true;
     else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
     else if (a == "--duration" && i + 1 < argc) duration = std::atof(argv[++i]);
+    else if (a == "--stiffness") {
+      // A 0.1 kg body on springs of 1e2 .. 1e7 N/m at 1 ms.
+      std::vector<double> ks;
+      for (double k = 100; k <= 1.01e7; k *= std::sqrt(10.0)) ks.push_back(k);
+      std::printf("%12s %10s  %-28s %-28s %-28s\n", "k (N/m)", "k h^2/m", "semi-implicit Euler", "RK4",
+                  "linearly implicit");
+      double largest[3] = {0, 0, 0};
+      for (const auto& r : stiffnessSweep(0.1, 1e-3, ks)) {
+        std::printf("%12.3g %10.3g", r.k, r.k_h2_m);
+        for (int m = 0; m < 3; ++m) {
+          std::printf("  %-8s E/E0 max %-12.3g", r.stable[m] ? "stable" : "UNSTABLE", r.energy_ratio[m]);
+          if (r.stable[m]) largest[m] = r.k;
+        }
+        std::printf("\n");
+      }
+      std::printf("largest stable k at 1 ms on 0.1 kg: semi-implicit Euler %.3g N/m, RK4 %.3g N/m, linearly implicit %.3g N/m\n",
+                  largest[0], largest[1], largest[2]);
+      std::printf("measured stability limit of k h^2/m: semi-implicit Euler %.3f (theory 4), RK4 %.3f (theory (2 sqrt 2)^2 = 8)\n",
+                  stabilityLimit(0, 0.1, 1e-3), stabilityLimit(1, 0.1, 1e-3));
+      return 0;
+    }
     else {
-      std::fprintf(stderr, "usage: igms-accuracy [--case NAME|all] [--quick] [--duration S] [--csv FILE]\n");
+      std::fprintf(stderr, "usage: igms-accuracy [--case NAME|all] [--quick] [--duration S] [--csv FILE] | --stiffness\n");
       return 2;
     }
   }
