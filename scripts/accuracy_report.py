@@ -25,7 +25,8 @@ def main():
           f"From `{os.path.basename(path)}` (igms-accuracy). Error: the largest joint-space error (rad; for a floating "
           "base also m and rad of the base) against igms RK4 at 1/64 ms. Cost: wall seconds per simulated second, "
           "this machine (2 cores, noisy). Order: slope of log error against log h on the smallest steps that are "
-          "above round-off.", ""]
+          "above round-off (1e-9). n/a: not conserved in that case (energy with damping, momentum under gravity or "
+          "on a fixed base), or no order (the method does not converge there).", ""]
     fig, axes = plt.subplots(1, len(cases), figsize=(5 * len(cases), 4.5), squeeze=False)
     for ax, case in zip(axes[0], cases):
         md += [f"## {case}", "", "| method | order | error at 1 ms (rad) | end-effector error at 1 ms (m) | "
@@ -36,7 +37,7 @@ def main():
             h = np.array([float(r["h_ms"]) for r in rs])
             e = np.array([float(r["q_max"]) for r in rs])
             cost = np.array([float(r["wall_s_per_sim_s"]) for r in rs])
-            ok = np.isfinite(e) & (e > 1e-11) & (e < 1.0)
+            ok = np.isfinite(e) & (e > 1e-9) & (e < 1.0)  # above round-off, below saturation
             order = float("nan")
             if ok.sum() >= 3:
                 sel = np.argsort(h[ok])[:4]
@@ -47,9 +48,12 @@ def main():
             one = [r for r in rs if abs(float(r["h_ms"]) - 1.0) < 1e-9]
             if one:
                 r = one[0]
-                md.append(f"| {m} | {order:.2f} | {float(r['q_max']):.3g} | {float(r['ee_max']):.3g} | "
-                          f"{float(r['energy_drift']):.3g} | {float(r['linear_momentum_drift']):.2g} / "
-                          f"{float(r['angular_momentum_drift']):.2g} | {float(r['wall_s_per_sim_s']):.3g} |")
+                def num(x, fmt):
+                    v = float(x)
+                    return "n/a" if math.isnan(v) else format(v, fmt)
+                md.append(f"| {m} | {num(order, '.2f')} | {num(r['q_max'], '.3g')} | {num(r['ee_max'], '.3g')} | "
+                          f"{num(r['energy_drift'], '.3g')} | {num(r['linear_momentum_drift'], '.2g')} / "
+                          f"{num(r['angular_momentum_drift'], '.2g')} | {num(r['wall_s_per_sim_s'], '.3g')} |")
             else:
                 md.append(f"| {m} | {order:.2f} | diverged | | | | |")
         md.append("")

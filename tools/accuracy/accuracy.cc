@@ -83,16 +83,20 @@ Case makeCase(const std::string& name, const std::string& dir) {
   Case c;
   c.name = name;
   if (name == "puma_swing" || name == "puma_swing_damped") {
-    // The PUMA 560 released from a non-trivial pose for 10 s. The classic data
-    // has no joint damping; the damped case gives every joint 0.5 N m s/rad.
+    // The PUMA 560 released from a non-trivial pose. The classic data has no
+    // joint damping; the damped case gives the arm joints 0.5 N m s/rad and the
+    // light wrist joints damping in proportion to their inertia (0.5 on joint 6,
+    // whose inertia is 4e-5 kg m^2, would be a time constant of 80 us: stiff).
+    // 2.048 s: the free swing is chaotic, and over 10 s halving the ground
+    // truth's own step moves it by 0.7 rad, so no accurate reference exists there.
     auto model = std::make_shared<Model>(loadModel(dir + "/models/puma560.urdf"));
     c.damping = name == "puma_swing_damped";
-    if (c.damping) model->damping.assign(static_cast<size_t>(model->nv), 0.5);
+    if (c.damping) model->damping = {0.5, 0.5, 0.5, 0.005, 0.005, 0.002};
     c.model = model;
     c.q0 = VectorX(6);
     c.q0 << 0.3, 0.2, -0.6, 0.5, 1.0, 0.3;
     c.v0 = VectorX::Zero(6);
-    c.duration = 10.24;
+    c.duration = 2.048;
     c.ee_frame = "ee_link";
   } else if (name == "chain30") {
     c.model = std::make_shared<Model>(buildModel(parseUrdfDescription(test::serialChainUrdf(30)), {}));
@@ -227,6 +231,9 @@ Errors compare(const Case& c, const Run& run, const Run& truth) {
         std::max(e.angular_momentum_drift, (run.momentum[k] - run.momentum[0]).tail<3>().norm() / L0);
   }
   e.q_rms = std::sqrt(sum / std::max(1, n));
+  // Conserved quantities only where they are conserved.
+  if (c.damping) e.energy_drift = NAN;
+  if (m.gravity.norm() > 0 || !m.floating_base) e.linear_momentum_drift = e.angular_momentum_drift = NAN;
   return e;
 }
 

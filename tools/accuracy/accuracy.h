@@ -43,6 +43,8 @@ Run simulate(const Case& c, Method m, double h);
 struct Errors {
   double q_rms = 0, q_max = 0, ee_max = 0, energy_drift = 0;
   double linear_momentum_drift = 0, angular_momentum_drift = 0;  // relative to the initial momenta
+  // energy_drift is NaN for a damped case, the momentum drifts for a case
+  // under gravity or on a fixed base: they are not conserved there.
 };
 Errors compare(const Case& c, const Run& run, const Run& truth);
 
