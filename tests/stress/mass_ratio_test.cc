@@ -3,16 +3,11 @@
 // what cond(H) allows, and ABA agrees with the LDL^T path.
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/crba.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/rnea.h"
-#include "server/model/configuration.h"
+#include "tests/support/fd_digits.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {
@@ -44,27 +39,10 @@ struct Masses {
 class MassRatio : public ::testing::TestWithParam<Masses> {};
 
 TEST_P(MassRatio, ForwardDynamicsKeepsTheDigitsConditioningAllows) {
-  const Model m = modelFromUrdf(chain(GetParam().base, GetParam().ratio));
-  Data d(m);
-  std::mt19937 rng(9);
-  double worst_fd = 0, worst_aba = 0, worst_cond = 0;
-  for (int s = 0; s < 10; ++s) {
-    const VectorX q = randomConfiguration(m, rng), v = randomVector(m.nv, rng), a = randomVector(m.nv, rng);
-    const VectorX tau = rnea(m, d, q, v, a);
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<MatrixX>(crba(m, d, q)).eigenvalues();
-    const double cond = ev.maxCoeff() / ev.minCoeff();
-    ASSERT_TRUE(forwardDynamics(m, d, q, v, tau));
-    const VectorX ldlt = d.qdd;
-    ASSERT_TRUE(aba(m, d, q, v, tau));
-    const double fd = (ldlt - a).norm() / a.norm(), ab = (d.qdd - ldlt).norm() / ldlt.norm();
-    EXPECT_LE(fd, std::max(1e-12, cond * 1e-13)) << GetParam().name << " cond " << cond;
-    EXPECT_LE(ab, std::max(1e-12, cond * 1e-13)) << GetParam().name << " cond " << cond;
-    worst_fd = std::max(worst_fd, fd);
-    worst_aba = std::max(worst_aba, ab);
-    worst_cond = std::max(worst_cond, cond);
-  }
+  const FdDigits r = measureFdDigits(modelFromUrdf(chain(GetParam().base, GetParam().ratio)), 10, 9, 1e-13, 1e-12);
+  EXPECT_TRUE(r.within_bound) << GetParam().name << ": cond " << r.worst_cond << ", FD " << r.worst_fd;
   std::printf("%-22s cond(H) up to %.3g; FD(ID(a)) relative error %.3g; ABA vs LDL^T %.3g\n", GetParam().name,
-              worst_cond, worst_fd, worst_aba);
+              r.worst_cond, r.worst_fd, r.worst_aba);
 }
 
 INSTANTIATE_TEST_SUITE_P(Chains, MassRatio,

@@ -28,6 +28,27 @@ Matrix3 fromOde(const dReal* m) {
   return R;
 }
 
+// A body's mass, inertia about its centre in world axes, centre, and velocities.
+struct BodyState {
+  double mass;
+  Matrix3 I_world;
+  Vector3 x, v, w;
+};
+
+BodyState bodyState(dBodyID b) {
+  dMass m;
+  dBodyGetMass(b, &m);
+  Matrix3 I;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
+  const Matrix3 R = fromOde(dBodyGetRotation(b));
+  const dReal* p = dBodyGetPosition(b);
+  const dReal* lv = dBodyGetLinearVel(b);
+  const dReal* av = dBodyGetAngularVel(b);
+  return {m.mass, R * I * R.transpose(), Vector3(p[0], p[1], p[2]), Vector3(lv[0], lv[1], lv[2]),
+          Vector3(av[0], av[1], av[2])};
+}
+
 }  // namespace
 
 struct OdeRobot::Impl {
@@ -190,51 +211,29 @@ void OdeRobot::state(VectorX& q, VectorX& v) const {
 }
 
 double OdeRobot::kineticEnergy() const {
-  const Impl& s = *impl_;
   double T = 0.0;
-  for (dBodyID b : s.bodies) {
-    dMass m;
-    dBodyGetMass(b, &m);
-    const dReal* lv = dBodyGetLinearVel(b);
-    const dReal* av = dBodyGetAngularVel(b);
-    const Matrix3 R = fromOde(dBodyGetRotation(b));
-    Matrix3 I;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
-    const Vector3 w(av[0], av[1], av[2]), vl(lv[0], lv[1], lv[2]);
-    T += 0.5 * m.mass * vl.squaredNorm() + 0.5 * w.dot(R * I * R.transpose() * w);
+  for (dBodyID b : impl_->bodies) {
+    const BodyState s = bodyState(b);
+    T += 0.5 * s.mass * s.v.squaredNorm() + 0.5 * s.w.dot(s.I_world * s.w);
   }
   return T;
 }
 
 double OdeRobot::totalEnergy() const {
-  const Impl& s = *impl_;
   double U = 0.0;
-  for (dBodyID b : s.bodies) {
-    dMass m;
-    dBodyGetMass(b, &m);
-    const dReal* p = dBodyGetPosition(b);
-    U -= m.mass * s.model.gravity.dot(Vector3(p[0], p[1], p[2]));
+  for (dBodyID b : impl_->bodies) {
+    const BodyState s = bodyState(b);
+    U -= s.mass * impl_->model.gravity.dot(s.x);
   }
   return kineticEnergy() + U;
 }
 
 Vector6 OdeRobot::momentum() const {
-  const Impl& s = *impl_;
   Vector3 L = Vector3::Zero(), P = Vector3::Zero();
-  for (dBodyID b : s.bodies) {
-    dMass m;
-    dBodyGetMass(b, &m);
-    const dReal* p = dBodyGetPosition(b);
-    const dReal* lv = dBodyGetLinearVel(b);
-    const dReal* av = dBodyGetAngularVel(b);
-    const Matrix3 R = fromOde(dBodyGetRotation(b));
-    Matrix3 I;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) I(r, c) = m.I[4 * r + c];
-    const Vector3 x(p[0], p[1], p[2]), vl(lv[0], lv[1], lv[2]), w(av[0], av[1], av[2]);
-    P += m.mass * vl;
-    L += x.cross(m.mass * vl) + R * I * R.transpose() * w;
+  for (dBodyID b : impl_->bodies) {
+    const BodyState s = bodyState(b);
+    P += s.mass * s.v;
+    L += s.x.cross(s.mass * s.v) + s.I_world * s.w;
   }
   Vector6 out;
   out << P, L;
