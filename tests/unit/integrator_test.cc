@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "server/dynamics/forward_dynamics.h"
 #include "server/integrate/integrators.h"
+#include "server/integrate/passive_joint_dynamics.h"
 #include "server/scene/scene.h"
 #include "tests/support/test_models.h"
 
@@ -20,34 +20,10 @@ const char* kPendulum =
     "</link><joint name=\"hinge\" type=\"continuous\"><parent link=\"base\"/><child link=\"bob\"/>"
     "<axis xyz=\"0 1 0\"/><dynamics damping=\"0.05\"/></joint></robot>";
 
-// Free dynamics with joint damping as the stiff term, plus an optional joint
-// spring tau = -k q (a stiff spring in joint space).
-struct JointEval {
-  const Model& m;
-  Data d;
-  double spring_k = 0.0;
-  VectorX tau, F;
-  explicit JointEval(const Model& model) : m(model), d(model), tau(model.nv), F(model.nv) {}
-  void accel(const VectorX& q, const VectorX& v, VectorX& qdd) {
-    for (int k = 0; k < m.nv; ++k) tau[k] = -m.damping[k] * v[k] - spring_k * q[k];
-    ASSERT_TRUE(forwardDynamics(m, d, q, v, tau));
-    F = tau - d.bias;
-    qdd = d.qdd;
-  }
-  const MatrixX& H() const { return d.H; }
-  const VectorX& force() const { return F; }
-  void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h) {
-    for (int k = 0; k < m.nv; ++k) {
-      A(k, k) += h * m.damping[k] + h * h * spring_k;
-      rhs[k] -= h * h * spring_k * v[k];
-    }
-  }
-};
 
 double simulate(const Model& m, IntegratorKind kind, double h, double T, double spring_k = 0.0,
                 double q0 = 1.0) {
-  JointEval f(m);
-  f.spring_k = spring_k;
+  PassiveJointDynamics f(m, /*joint_damping=*/true, spring_k);
   IntegratorScratch s(m);
   VectorX q = VectorX::Constant(m.nq, q0), v = VectorX::Zero(m.nv);
   const int n = static_cast<int>(std::lround(T / h));

@@ -7,6 +7,7 @@
 #include "server/dynamics/forward_dynamics.h"
 #include "server/dynamics/rnea.h"
 #include "server/integrate/integrators.h"
+#include "server/integrate/passive_joint_dynamics.h"
 #include "server/kinematics/forward_kinematics.h"
 #include "server/model/configuration.h"
 #include "server/model/model_loader.h"
@@ -19,25 +20,6 @@ namespace {
 
 constexpr double kSample = 0.032;  // s
 
-// Free motion: zero torques, joint damping if the case asks.
-struct FreeEval {
-  const Model& m;
-  bool damping;
-  Data d;
-  VectorX tau, F;
-  FreeEval(const Model& model, bool damp) : m(model), damping(damp), d(model), tau(model.nv), F(model.nv) {}
-  void accel(const VectorX& q, const VectorX& v, VectorX& qdd) {
-    for (int k = 0; k < m.nv; ++k) tau[k] = damping ? -m.damping[k] * v[k] : 0.0;
-    if (!forwardDynamics(m, d, q, v, tau)) throw std::runtime_error("singular H");
-    F = tau - d.bias;
-    qdd = d.qdd;
-  }
-  const MatrixX& H() const { return d.H; }
-  const VectorX& force() const { return F; }
-  void addStiffness(MatrixX& A, VectorX&, const VectorX&, double h) {
-    if (damping) A.diagonal() += h * Eigen::Map<const VectorX>(m.damping.data(), m.nv);
-  }
-};
 
 double energy(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
   // Kinetic from the body velocities, potential -m g . c from the body poses.
@@ -166,21 +148,17 @@ Run simulate(const Case& c, Method method, double h) {
       run.momentum.back() = ode.momentum();
     }
   } else {
-    FreeEval f(m, c.damping);
+    PassiveJointDynamics f(m, c.damping);  // free motion: no torques but the joint damping
     IntegratorScratch scratch(m);
     for (int k = 0; k < samples && !run.diverged; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
-      try {
-        for (int j = 0; j < per_sample && !run.diverged; ++j) {
-          switch (method) {
-            case Method::SemiImplicitEuler: stepSemiImplicitEuler(m, f, q, v, h, scratch); break;
-            case Method::Rk4: stepRk4(m, f, q, v, h, scratch); break;
-            default: run.diverged = !stepLinearlyImplicit(m, f, q, v, h, scratch); break;
-          }
-          run.diverged = run.diverged || !finiteAndBounded(q, v);
+      for (int j = 0; j < per_sample && !run.diverged; ++j) {
+        switch (method) {
+          case Method::SemiImplicitEuler: stepSemiImplicitEuler(m, f, q, v, h, scratch); break;
+          case Method::Rk4: stepRk4(m, f, q, v, h, scratch); break;
+          default: run.diverged = !stepLinearlyImplicit(m, f, q, v, h, scratch); break;
         }
-      } catch (const std::exception&) {
-        run.diverged = true;
+        run.diverged = run.diverged || !finiteAndBounded(q, v);
       }
       wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       normalizeConfiguration(m, q);

@@ -3,35 +3,12 @@
 #include <cmath>
 #include <string>
 
-#include "server/dynamics/forward_dynamics.h"
 #include "server/integrate/integrators.h"
+#include "server/integrate/passive_joint_dynamics.h"
 #include "server/model/robot_description.h"
 #include "server/model/urdf_loader.h"
 
 namespace igms::accuracy {
-namespace {
-
-struct SpringEval {
-  const Model& m;
-  double k;
-  Data d;
-  VectorX tau, F;
-  SpringEval(const Model& model, double stiffness) : m(model), k(stiffness), d(model), tau(model.nv), F(model.nv) {}
-  void accel(const VectorX& q, const VectorX& v, VectorX& qdd) {
-    tau[0] = -k * q[0];
-    forwardDynamics(m, d, q, v, tau);
-    F = tau - d.bias;
-    qdd = d.qdd;
-  }
-  const MatrixX& H() const { return d.H; }
-  const VectorX& force() const { return F; }
-  void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h) {
-    A(0, 0) += h * h * k;
-    rhs[0] -= h * h * k * v[0];
-  }
-};
-
-}  // namespace
 
 std::vector<StiffnessResult> stiffnessSweep(double mass, double h, const std::vector<double>& ks, double seconds) {
   const std::string urdf =
@@ -47,7 +24,7 @@ std::vector<StiffnessResult> stiffnessSweep(double mass, double h, const std::ve
   for (double k : ks) {
     StiffnessResult r{k, k * h * h / mass, {false, false, false}, {0, 0, 0}};
     for (int method = 0; method < 3; ++method) {
-      SpringEval f(m, k);
+      PassiveJointDynamics f(m, /*joint_damping=*/false, k);
       IntegratorScratch s(m);
       VectorX q = VectorX::Constant(1, 0.001), v = VectorX::Zero(1);
       const double E0 = 0.5 * k * q[0] * q[0];
