@@ -51,13 +51,13 @@ struct Simulation::Evaluator {
   bool coupled = false;
   int coupled_frame = -1;
   Vector3 coupled_point = Vector3::Zero();  // link frame
-  Vector3 force = Vector3::Zero(), force_point = Vector3::Zero();
+  Vector3 coupling_force = Vector3::Zero(), force_point = Vector3::Zero();
   bool clamped = false;
   Matrix3 K = Matrix3::Zero(), B = Matrix3::Zero();
 
   void couple(const VectorX& v) {
     coupled = false;
-    force.setZero();
+    coupling_force.setZero();
     if (mode == InteractionMode::Push) {
       TipContact best;
       int best_frame = -1;
@@ -79,7 +79,7 @@ struct Simulation::Evaluator {
       coupled = true;
       coupled_frame = best_frame;
       coupled_point = framePose(model, data, best_frame).inverse().act(p.point);
-      force = p.on_link;
+      coupling_force = p.on_link;
       force_point = p.point;
       clamped = p.clamped;
       K = p.clamped ? Matrix3::Zero() : Matrix3(push_k_p * best.normal * best.normal.transpose());
@@ -93,7 +93,7 @@ struct Simulation::Evaluator {
       coupled = true;
       coupled_frame = attach_frame;
       coupled_point = attach_point;
-      force = p.on_robot;
+      coupling_force = p.on_robot;
       force_point = x;
       clamped = p.clamped;
       K = (p.stretch_capped || p.clamped) ? Matrix3::Zero() : Matrix3(pull_k * Matrix3::Identity());
@@ -105,7 +105,7 @@ struct Simulation::Evaluator {
     bodyKinematics(model, data, q);
     clearExternalForces(fext);
     couple(v);
-    if (coupled) addPointForce(model, data, PointForce{coupled_frame, coupled_point, force}, fext);
+    if (coupled) addPointForce(model, data, PointForce{coupled_frame, coupled_point, coupling_force}, fext);
     tau_total = tau;
     if (scene.joint_damping) for (int k = 0; k < model.nv; ++k) tau_total[k] -= model.damping[k] * v[k];
     if (!forwardDynamics(model, data, q, v, tau_total, coupled ? &fext : nullptr)) {
@@ -121,7 +121,7 @@ struct Simulation::Evaluator {
     }
   }
   const MatrixX& H() const { return data.H; }
-  const VectorX& force_vector() const { return F; }
+  const VectorX& force() const { return F; }
 
   void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h) {
     if (scene.joint_damping) A.diagonal() += h * Eigen::Map<const VectorX>(model.damping.data(), model.nv);
@@ -139,16 +139,6 @@ struct Simulation::Evaluator {
   }
 };
 
-// The integrators' interface names.
-namespace {
-struct EvalAdapter {
-  Simulation::Evaluator& e;
-  void accel(const VectorX& q, const VectorX& v, VectorX& qdd) { e.accel(q, v, qdd); }
-  const MatrixX& H() const { return e.H(); }
-  const VectorX& force() const { return e.force_vector(); }
-  void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h) { e.addStiffness(A, rhs, v, h); }
-};
-}  // namespace
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
   model_ = std::make_unique<const Model>(loadModel(scene_.model_path, scene_.build));
@@ -309,21 +299,20 @@ bool Simulation::step(const InteractionInput* input) {
   if (diverged_) return false;
   computeControl(input);
   Evaluator& e = *eval_;
-  EvalAdapter f{e};
   const double h = scene_.dt;
   bool ok = true;
   switch (scene_.integrator) {
-    case IntegratorKind::SemiImplicitEuler: stepSemiImplicitEuler(*model_, f, q_, v_, h, *scratch_); break;
-    case IntegratorKind::Rk4: stepRk4(*model_, f, q_, v_, h, *scratch_); break;
-    case IntegratorKind::LinearlyImplicit: ok = stepLinearlyImplicit(*model_, f, q_, v_, h, *scratch_); break;
+    case IntegratorKind::SemiImplicitEuler: stepSemiImplicitEuler(*model_, e, q_, v_, h, *scratch_); break;
+    case IntegratorKind::Rk4: stepRk4(*model_, e, q_, v_, h, *scratch_); break;
+    case IntegratorKind::LinearlyImplicit: ok = stepLinearlyImplicit(*model_, e, q_, v_, h, *scratch_); break;
   }
   // The step's reported acceleration and force: at the start state (what the
   // paper plots), from the first evaluation.
   qdd_ = scene_.integrator == IntegratorKind::Rk4 ? scratch_->k1 : scratch_->qdd;
   tau_ = e.tau;
-  outcome_.force_on_robot = e.force;
+  outcome_.force_on_robot = e.coupling_force;
   outcome_.force_point = e.force_point;
-  outcome_.device_force = -e.force;
+  outcome_.device_force = -e.coupling_force;
   outcome_.clamped = e.clamped && e.coupled;
   if (outcome_.clamped) ++forces_clamped_;
   t_ += h;
