@@ -19,9 +19,9 @@ namespace igms {
 
 struct IntegratorScratch {
   explicit IntegratorScratch(const Model& m)
-      : qdd(m.nv), k1(m.nv), k2(m.nv), k3(m.nv), k4(m.nv), v2(m.nv), v3(m.nv), v4(m.nv), vmid(m.nv), qt(m.nq),
+      : qdd(m.nv), k1(m.nv), k2(m.nv), k3(m.nv), k4(m.nv), v2(m.nv), v3(m.nv), v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq),
         A(m.nv, m.nv), rhs(m.nv), diag(m.nv) {}
-  VectorX qdd, k1, k2, k3, k4, v2, v3, v4, vmid, qt;
+  VectorX qdd, k1, k2, k3, k4, v2, v3, v4, u, r2, r3, r4, qt;
   MatrixX A;
   VectorX rhs, diag;
 };
@@ -34,22 +34,30 @@ void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, doub
   integrateConfiguration(m, q, v, h, q);
 }
 
-// Classic RK4 on (q, v), stages on the group; q advanced by the weighted mean velocity.
+// Classic RK4 on (q, v), as Runge-Kutta-Munthe-Kaas on the group: stage i
+// sits at q (+) u_i, and its configuration rate is v_i carried back to q's
+// tangent space through dexp^{-1} (configurationRate). Without that correction
+// a floating base would be only second order.
 template <typename Eval>
 void stepRk4(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, IntegratorScratch& s) {
-  // Stage i: q_i = q (+) c_i h v_{i-1}, v_i = v + c_i h k_{i-1}.
-  f.accel(q, v, s.k1);
+  f.accel(q, v, s.k1);                            // stage 1: u = 0, rate v
   s.v2 = v + 0.5 * h * s.k1;
-  integrateConfiguration(m, q, v, 0.5 * h, s.qt);
+  s.u = 0.5 * h * v;
+  integrateConfiguration(m, q, s.u, 1.0, s.qt);
   f.accel(s.qt, s.v2, s.k2);
+  configurationRate(m, s.u, s.v2, s.r2);
   s.v3 = v + 0.5 * h * s.k2;
-  integrateConfiguration(m, q, s.v2, 0.5 * h, s.qt);
+  s.u = 0.5 * h * s.r2;
+  integrateConfiguration(m, q, s.u, 1.0, s.qt);
   f.accel(s.qt, s.v3, s.k3);
+  configurationRate(m, s.u, s.v3, s.r3);
   s.v4 = v + h * s.k3;
-  integrateConfiguration(m, q, s.v3, h, s.qt);
+  s.u = h * s.r3;
+  integrateConfiguration(m, q, s.u, 1.0, s.qt);
   f.accel(s.qt, s.v4, s.k4);
-  s.vmid = (v + 2.0 * s.v2 + 2.0 * s.v3 + s.v4) / 6.0;
-  integrateConfiguration(m, q, s.vmid, h, q);
+  configurationRate(m, s.u, s.v4, s.r4);
+  s.u = (h / 6.0) * (v + 2.0 * s.r2 + 2.0 * s.r3 + s.r4);
+  integrateConfiguration(m, q, s.u, 1.0, q);
   v += (h / 6.0) * (s.k1 + 2.0 * s.k2 + 2.0 * s.k3 + s.k4);
 }
 

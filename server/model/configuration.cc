@@ -93,6 +93,27 @@ void integrateConfiguration(const Model& model, const VectorX& q, const VectorX&
   }
 }
 
+namespace {
+// [a, b] in se(3), twists ordered (linear; angular).
+Vector6 bracket(const Vector6& a, const Vector6& b) {
+  Vector6 out;
+  out.head<3>() = a.tail<3>().cross(b.head<3>()) + a.head<3>().cross(b.tail<3>());
+  out.tail<3>() = a.tail<3>().cross(b.tail<3>());
+  return out;
+}
+}  // namespace
+
+void configurationRate(const Model& model, const VectorX& u, const VectorX& v, VectorX& out) {
+  out = v;
+  for (int i = 0; i < model.nb; ++i) {
+    if (model.joint_type[i] != JointType::Floating) continue;
+    const int iv = model.v_index[i];
+    const Vector6 ui = u.segment<6>(iv);
+    const Vector6 uv = bracket(ui, v.segment<6>(iv));
+    out.segment<6>(iv) += 0.5 * uv + bracket(ui, uv) / 12.0;
+  }
+}
+
 void normalizeConfiguration(const Model& model, VectorX& q) {
   for (int i = 0; i < model.nb; ++i)
     if (model.joint_type[i] == JointType::Floating) {

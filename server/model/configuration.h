@@ -23,6 +23,12 @@ VectorX randomVector(int n, std::mt19937& rng, double scale = 1.0);
 // constant body twist v for dt (exact SE(3) exponential). q_out may alias q.
 void integrateConfiguration(const Model& model, const VectorX& q, const VectorX& v, double dt, VectorX& q_out);
 
+// The rate of u in q = q0 (+) u when the velocity is v: v itself for the
+// joints; for a floating base dexp^{-1}_{-u}(v) = v + [u, v]/2 + [u, [u, v]]/12
+// (se(3) brackets), truncated where a 4th-order Runge-Kutta-Munthe-Kaas step
+// needs it. out must not alias u or v.
+void configurationRate(const Model& model, const VectorX& u, const VectorX& v, VectorX& out);
+
 // A batch of random states (q, v, a, tau) for benchmarks and tests.
 struct RandomStates {
   std::vector<VectorX> q, v, a, tau;
