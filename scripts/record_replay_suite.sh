@@ -5,6 +5,7 @@
 #   pull     a scripted pull of the end-effector
 #   dropped  the push with 20 % of the server's replies dropped
 #   paper_push, paper_pull  the paper's experiments (scenes/puma_obstacle.yaml), gzip-compressed
+#   paper_nominal  the same scene with the device held away: the controlled straight line alone
 # First it shows how far the current build's re-simulation of the committed
 # logs moved; the new logs replace them only with --accept.
 #   scripts/record_replay_suite.sh [--accept]
@@ -44,13 +45,14 @@ record pull tests/replay/pull_short.yaml
 record dropped tests/replay/push_short.yaml --fault-drop 0.2
 record paper_push scenes/paper_push.yaml
 record paper_pull scenes/paper_pull.yaml
+record paper_nominal scenes/idle_device.yaml
 
 for log in tests/replay/data/*.lcmlog*; do
   echo "== the committed $log, re-simulated by this build:"
   build/tools/igms-replay resim "$log" --tolerance 1e300 || true
 done
 if [[ "$accept" == "--accept" ]]; then
-  cp "$out"/{push,pull,dropped}.lcmlog "$out"/paper_{push,pull}.lcmlog.gz tests/replay/data/
+  cp "$out"/{push,pull,dropped}.lcmlog "$out"/paper_{push,pull,nominal}.lcmlog.gz tests/replay/data/
   echo "accepted: tests/replay/data/ now holds the new recordings"
 else
   echo "not accepted: rerun with --accept to replace tests/replay/data/"

@@ -162,6 +162,11 @@ void OdeRobot::step(const VectorX& tau, double h) {
   else dWorldStep(s.world, h);
 }
 
+void OdeRobot::addForceAtPoint(int body, const Vector3& point, const Vector3& force) {
+  dBodyAddForceAtPos(impl_->bodies[static_cast<size_t>(body)], force.x(), force.y(), force.z(), point.x(), point.y(),
+                     point.z());
+}
+
 SE3 OdeRobot::bodyPose(int i) const {
   const Impl& s = *impl_;
   const dReal* p = dBodyGetPosition(s.bodies[i]);

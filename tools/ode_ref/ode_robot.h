@@ -39,6 +39,9 @@ class OdeRobot {
   // One step of h seconds with joint torques tau (size nv; a floating base's
   // first 6 entries, its wrench, are applied to the base body in its frame).
   void step(const VectorX& tau, double h);
+  // A force at a world point on body i, world axes, for the next step only
+  // (ODE clears accumulated forces after each step).
+  void addForceAtPoint(int body, const Vector3& point, const Vector3& force);
   // Reduced coordinates read back from ODE (joint angles unwrapped).
   void state(VectorX& q, VectorX& v) const;
   // World pose of body i's frame (not its centre of mass).

@@ -1,5 +1,7 @@
 #include "tools/replay/resimulate.h"
 
+#include "tools/replay/recorded_session.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -27,37 +29,19 @@ void track(FieldDeviation& d, double recorded, double now, int64_t seq, bool& id
 
 ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir) {
   ResimResult out;
-  session_info_t info;
-  bool have_info = false;
-  std::map<int64_t, haptic_input_t> inputs;  // by seq
-  std::vector<robot_state_t> states;
-  // A fault-injected session logs every state on the truth channel: prefer it.
-  bool truth = false;
-  for (const auto& e : events) truth |= e.channel == channels::kRobotStateTruth;
-  const char* state_channel = truth ? channels::kRobotStateTruth : channels::kRobotState;
-  for (const auto& e : events) {
-    if (e.channel == channels::kSessionInfo && !have_info) {
-      have_info = info.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0;
-    } else if (e.channel == channels::kHapticInput) {
-      haptic_input_t m;
-      if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) inputs.emplace(m.seq, m);
-    } else if (e.channel == state_channel) {
-      robot_state_t m;
-      if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) states.push_back(m);
-    }
-  }
-  if (!have_info) {
+  const RecordedSession session = readRecordedSession(events);
+  if (!session.has_info) {
     out.error = "the log has no session info (record it with igms-logger while igms-server runs)";
     return out;
   }
+  const session_info_t& info = session.info;
+  const auto& inputs = session.inputs;
   out.scene_path = info.scene_path;
   out.model_hash_logged = info.model_hash;
   out.build_logged = info.build_version;
   std::unique_ptr<Simulation> sim;
   try {
-    const size_t slash = info.scene_path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? base_dir : base_dir + "/" + info.scene_path.substr(0, slash);
-    sim = std::make_unique<Simulation>(parseScene(info.scene_text, info.scene_path, dir));
+    sim = std::make_unique<Simulation>(recordedScene(session, base_dir));
     out.model_hash_now = textHash(readModelFile(sim->scene().model_path));
   } catch (const std::exception& e) {
     out.error = std::string("cannot rebuild the scene: ") + e.what();
@@ -67,9 +51,8 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   FieldDeviation dq{"q"}, dv{"v"}, dqdd{"qdd"}, dtau{"tau"}, dforce{"interaction_force"}, dpose{"link_poses"};
   bool identical = true;
   // States in step order; the first state is the initial one (seq 0).
-  std::sort(states.begin(), states.end(), [](const auto& a, const auto& b) { return a.seq < b.seq; });
   InteractionInput input;
-  for (const auto& st : states) {
+  for (const auto& st : session.states) {
     if (st.seq == 0) continue;  // the initial state, before any step
     if (st.seq != sim->steps() + 1) {
       out.error = "state seq " + std::to_string(st.seq) + " follows " + std::to_string(sim->steps()) +

@@ -1,0 +1,37 @@
+#include "tools/replay/recorded_session.h"
+
+#include <algorithm>
+
+#include "channels.h"
+
+namespace igms {
+
+RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
+  RecordedSession out;
+  bool truth = false;
+  for (const auto& e : events) truth |= e.channel == channels::kRobotStateTruth;
+  const char* state_channel = truth ? channels::kRobotStateTruth : channels::kRobotState;
+  for (const auto& e : events) {
+    const int size = static_cast<int>(e.data.size());
+    if (e.channel == channels::kSessionInfo && !out.has_info) {
+      out.has_info = out.info.decode(e.data.data(), 0, size) >= 0;
+    } else if (e.channel == channels::kHapticInput) {
+      haptic_input_t m;
+      if (m.decode(e.data.data(), 0, size) >= 0) out.inputs.emplace(m.seq, m);
+    } else if (e.channel == state_channel) {
+      robot_state_t m;
+      if (m.decode(e.data.data(), 0, size) >= 0) out.states.push_back(m);
+    }
+  }
+  std::sort(out.states.begin(), out.states.end(), [](const auto& a, const auto& b) { return a.seq < b.seq; });
+  return out;
+}
+
+Scene recordedScene(const RecordedSession& session, const std::string& base_dir) {
+  const std::string& path = session.info.scene_path;
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? base_dir : base_dir + "/" + path.substr(0, slash);
+  return parseScene(session.info.scene_text, path, dir);
+}
+
+}  // namespace igms

@@ -1,0 +1,32 @@
+// A recorded session as the tools read it back from a log: the session info,
+// the robot states in step order (the truth channel when the session was
+// fault-injected, since it holds every step), the haptic inputs by seq, and
+// the scene rebuilt from the logged scene text.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "server/scene/scene.h"
+#include "tools/eventlog/event_log.h"
+
+namespace igms {
+
+struct RecordedSession {
+  bool has_info = false;
+  session_info_t info;
+  std::vector<robot_state_t> states;        // sorted by seq
+  std::map<int64_t, haptic_input_t> inputs;  // by seq
+};
+
+RecordedSession readRecordedSession(const std::vector<log::Event>& events);
+
+// The scene of the session; base_dir resolves its relative paths (the
+// server's working directory at record time). Throws SceneError / ModelError.
+Scene recordedScene(const RecordedSession& session, const std::string& base_dir);
+
+}  // namespace igms
