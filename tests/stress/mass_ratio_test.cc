@@ -5,31 +5,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "tests/support/fd_digits.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {
 namespace {
-
-// A 12-link chain tapering from base (at the root) to base / ratio (at the
-// tip) geometrically, inertia scaled alike: the light tip makes H ill-conditioned.
-std::string chain(double base, double ratio) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "<robot name=\"masses\"><link name=\"l0\"/>";
-  for (int i = 1; i <= 12; ++i) {
-    const double m = base * std::pow(ratio, -(i - 1) / 11.0), I = 0.01 * m;
-    out << "<link name=\"l" << i << "\"><inertial><origin xyz=\"0 0 0.05\"/><mass value=\"" << m
-        << "\"/><inertia ixx=\"" << I << "\" ixy=\"0\" ixz=\"0\" iyy=\"" << I << "\" iyz=\"0\" izz=\"" << 0.5 * I
-        << "\"/></inertial></link><joint name=\"j" << i << "\" type=\"revolute\"><parent link=\"l" << i - 1
-        << "\"/><child link=\"l" << i << "\"/><origin xyz=\"0 0 " << (i == 1 ? 0.0 : 0.1) << "\"/><axis xyz=\""
-        << (i % 2 ? "0 1 0" : "1 0 0") << "\"/><limit lower=\"-3\" upper=\"3\" effort=\"1\" velocity=\"1\"/></joint>";
-  }
-  out << "</robot>";
-  return out.str();
-}
 
 struct Masses {
   const char* name;
@@ -39,7 +20,7 @@ struct Masses {
 class MassRatio : public ::testing::TestWithParam<Masses> {};
 
 TEST_P(MassRatio, ForwardDynamicsKeepsTheDigitsConditioningAllows) {
-  const FdDigits r = measureFdDigits(modelFromUrdf(chain(GetParam().base, GetParam().ratio)), 10, 9, 1e-13, 1e-12);
+  const FdDigits r = measureFdDigits(modelFromUrdf(taperedChainUrdf(GetParam().base, GetParam().ratio)), 10, 9, 1e-13, 1e-12);
   EXPECT_TRUE(r.within_bound) << GetParam().name << ": cond " << r.worst_cond << ", FD " << r.worst_fd;
   std::printf("%-22s cond(H) up to %.3g; FD(ID(a)) relative error %.3g; ABA vs LDL^T %.3g\n", GetParam().name,
               r.worst_cond, r.worst_fd, r.worst_aba);

@@ -113,4 +113,20 @@ std::string serialChainUrdf(int n) {
   return out.str();
 }
 
+std::string taperedChainUrdf(double base, double ratio) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "<robot name=\"masses\"><link name=\"l0\"/>";
+  for (int i = 1; i <= 12; ++i) {
+    const double m = base * std::pow(ratio, -(i - 1) / 11.0), I = 0.01 * m;
+    out << "<link name=\"l" << i << "\"><inertial><origin xyz=\"0 0 0.05\"/><mass value=\"" << m
+        << "\"/><inertia ixx=\"" << I << "\" ixy=\"0\" ixz=\"0\" iyy=\"" << I << "\" iyz=\"0\" izz=\"" << 0.5 * I
+        << "\"/></inertial></link><joint name=\"j" << i << "\" type=\"revolute\"><parent link=\"l" << i - 1
+        << "\"/><child link=\"l" << i << "\"/><origin xyz=\"0 0 " << (i == 1 ? 0.0 : 0.1) << "\"/><axis xyz=\""
+        << (i % 2 ? "0 1 0" : "1 0 0") << "\"/><limit lower=\"-3\" upper=\"3\" effort=\"1\" velocity=\"1\"/></joint>";
+  }
+  out << "</robot>";
+  return out.str();
+}
+
 }  // namespace igms::test

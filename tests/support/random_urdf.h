@@ -24,4 +24,9 @@ std::string randomUrdf(const RandomRobotOptions& options, unsigned seed);
 // A serial chain of n revolute joints along alternating axes (bench models).
 std::string serialChainUrdf(int n);
 
+// A 12-link chain whose masses taper geometrically from `base` kg at the root
+// to base / ratio at the tip, inertia scaled alike: a light tip makes H
+// ill-conditioned (the mass-ratio stress cases).
+std::string taperedChainUrdf(double base, double ratio);
+
 }  // namespace igms::test

@@ -20,8 +20,9 @@ namespace {
 
 constexpr double kSample = 0.032;  // s
 
+}  // namespace
 
-double energy(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
+double mechanicalEnergy(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
   // Kinetic from the body velocities, potential -m g . c from the body poses.
   rnea(m, d, q, v, VectorX::Zero(m.nv));
   bodyKinematics(m, d, q);
@@ -33,7 +34,7 @@ double energy(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
   return T + U;
 }
 
-Vector6 momentum(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
+Vector6 spatialMomentum(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
   rnea(m, d, q, v, VectorX::Zero(m.nv));
   bodyKinematics(m, d, q);
   Force total;
@@ -43,21 +44,23 @@ Vector6 momentum(const Model& m, Data& d, const VectorX& q, const VectorX& v) {
   return out;
 }
 
+namespace {
+
 void sample(const Case& c, Data& d, const VectorX& q, const VectorX& v, Run& run) {
   const Model& m = *c.model;
   run.q.push_back(q);
   forwardKinematics(m, d, q);
   const int f = m.frameIndex(c.ee_frame);
   run.ee.push_back(d.oMf[static_cast<size_t>(std::max(f, 0))].p);
-  run.energy.push_back(energy(m, d, q, v));
-  run.momentum.push_back(momentum(m, d, q, v));
+  run.energy.push_back(mechanicalEnergy(m, d, q, v));
+  run.momentum.push_back(spatialMomentum(m, d, q, v));
 }
+
+}  // namespace
 
 bool finiteAndBounded(const VectorX& q, const VectorX& v) {
   return q.allFinite() && v.allFinite() && q.cwiseAbs().maxCoeff() < 1e10 && v.cwiseAbs().maxCoeff() < 1e10;
 }
-
-}  // namespace
 
 std::vector<std::string> caseNames() { return {"puma_swing", "puma_swing_damped", "chain30", "tumble"}; }
 

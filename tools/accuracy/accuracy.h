@@ -48,4 +48,11 @@ struct Errors {
 };
 Errors compare(const Case& c, const Run& run, const Run& truth);
 
+// Kinetic plus potential energy; spatial momentum [linear; angular] about the
+// world origin, world axes.
+double mechanicalEnergy(const Model& m, Data& d, const VectorX& q, const VectorX& v);
+Vector6 spatialMomentum(const Model& m, Data& d, const VectorX& q, const VectorX& v);
+// Every coordinate finite and below 1e10: the divergence test of every sweep.
+bool finiteAndBounded(const VectorX& q, const VectorX& v);
+
 }  // namespace igms::accuracy
