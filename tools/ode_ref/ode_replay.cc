@@ -88,6 +88,10 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     out.error = "the recorded states do not match the scene's model";
     return out;
   }
+  if (tracking && m.floating_base) {
+    out.error = "tracking needs a fixed base (a floating base is not actuated, so there is no PD to add)";
+    return out;
+  }
   OdeSettings settings = base_settings;
   settings.joint_damping = scene.joint_damping;
   const double h = scene.dt;
@@ -118,7 +122,7 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     tau = Eigen::Map<const VectorX>(st.tau.data(), m.nv);
     tau_sq += tau.squaredNorm();
     if (st.mode != 0 && has_trajectory) tau -= scene.hold_damping * (crba(m, d, q) * v);  // the hold: -c H v
-    if (tracking && !m.floating_base) {
+    if (tracking) {
       const auto& rec_q = states[k - 1].q;  // the recorded state this step starts from
       const auto& rec_v = states[k - 1].v;
       const VectorX a = kp.cwiseProduct(Eigen::Map<const VectorX>(rec_q.data(), m.nq) - q) +
