@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "server/dynamics/crba.h"
 #include "server/integrate/integrators.h"
 #include "server/integrate/passive_joint_dynamics.h"
 #include "server/loop/simulation.h"
@@ -78,12 +79,7 @@ class Integration {
     const Vector6 p = ode_ ? ode_->momentum() : spatialMomentum(m_, d_, q_, v_);
     return p.tail<3>();
   }
-  double kinetic() {
-    if (ode_) return ode_->kineticEnergy();
-    const double E = mechanicalEnergy(m_, d_, q_, v_);
-    const VectorX zero = VectorX::Zero(m_.nv);
-    return E - mechanicalEnergy(m_, d_, q_, zero);
-  }
+  double kinetic() { return ode_ ? ode_->kineticEnergy() : 0.5 * v_.dot(crba(m_, d_, q_) * v_); }
   const VectorX& q() const { return q_; }
   const VectorX& v() const { return v_; }
   bool diverged() const { return diverged_; }

@@ -121,13 +121,15 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     }
     tau = Eigen::Map<const VectorX>(st.tau.data(), m.nv);
     tau_sq += tau.squaredNorm();
-    if (st.mode != 0 && has_trajectory) tau -= scene.hold_damping * (crba(m, d, q) * v);  // the hold: -c H v
+    const bool hold = st.mode != 0 && has_trajectory;
+    if (hold || tracking) crba(m, d, q);  // H at ODE's state, once per step
+    if (hold) tau -= scene.hold_damping * (d.H * v);  // the hold: -c H v
     if (tracking) {
       const auto& rec_q = states[k - 1].q;  // the recorded state this step starts from
       const auto& rec_v = states[k - 1].v;
       const VectorX a = kp.cwiseProduct(Eigen::Map<const VectorX>(rec_q.data(), m.nq) - q) +
                         kd.cwiseProduct(Eigen::Map<const VectorX>(rec_v.data(), m.nv) - v);
-      const VectorX correction = crba(m, d, q) * a;
+      const VectorX correction = d.H * a;
       correction_sq += correction.squaredNorm();
       tau += correction;
     }

@@ -1,17 +1,12 @@
 #include "tools/replay/resimulate.h"
 
-#include "tools/replay/recorded_session.h"
-
 #include <cmath>
 #include <cstring>
 
-#include "channels.h"
-#include "igms/haptic_input_t.hpp"
-#include "igms/robot_state_t.hpp"
-#include "igms/session_info_t.hpp"
 #include "server/loop/simulation.h"
 #include "server/model/robot_description.h"
 #include "server/transport/input_gate.h"
+#include "tools/replay/recorded_session.h"
 
 namespace igms {
 namespace {
