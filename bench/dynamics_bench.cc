@@ -20,14 +20,14 @@
 #include <string>
 #include <vector>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/crba.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/rnea.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/kinematics/jacobian.h"
-#include "server/model/configuration.h"
-#include "server/model/urdf_loader.h"
+#include "core/dynamics/aba.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/rnea.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/kinematics/jacobian.h"
+#include "core/model/configuration.h"
+#include "core/model_io/urdf_loader.h"
 #include "tests/support/kdl_from_urdf.h"
 #include "tests/support/random_urdf.h"
 

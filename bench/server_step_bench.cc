@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "server/collision/collision_world.h"
-#include "server/loop/simulation.h"
+#include "core/simulation/simulation.h"
 
 namespace {
 

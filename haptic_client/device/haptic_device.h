@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "server/model/spatial.h"
+#include "core/model/spatial.h"
 
 namespace igms {
 

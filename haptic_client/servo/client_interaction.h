@@ -8,9 +8,9 @@
 
 #include "haptic_client/servo/force_render.h"
 #include "igms/haptic_input_t.hpp"
-#include "server/interaction/pull.h"
-#include "server/interaction/push.h"
-#include "server/scene/scene.h"
+#include "core/interaction/pull.h"
+#include "core/interaction/push.h"
+#include "core/scene/scene.h"
 
 namespace igms {
 

@@ -11,7 +11,7 @@
 
 #include <algorithm>
 
-#include "server/model/spatial.h"
+#include "core/model/spatial.h"
 
 namespace igms {
 

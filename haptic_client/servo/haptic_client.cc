@@ -22,10 +22,10 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
-#include "server/model/model_loader.h"
-#include "server/scene/scene.h"
-#include "server/transport/clock.h"
-#include "server/transport/triple_buffer.h"
+#include "core/model_io/model_loader.h"
+#include "core/scene/scene.h"
+#include "core/realtime/clock.h"
+#include "core/realtime/triple_buffer.h"
 
 namespace igms {
 namespace {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "server/model/spatial.h"
+#include "core/model/spatial.h"
 
 namespace igms {
 

@@ -27,8 +27,8 @@
 #include "server/collision/collision_world.h"
 #include "server/loop/snapshot.h"
 #include "server/transport/input_gate.h"
-#include "server/transport/clock.h"
-#include "server/transport/latest_value.h"
+#include "core/realtime/clock.h"
+#include "core/realtime/latest_value.h"
 
 namespace igms {
 namespace {

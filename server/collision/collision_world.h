@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "server/scene/scene.h"
+#include "core/scene/scene.h"
 
 namespace igms {
 

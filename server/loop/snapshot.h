@@ -5,7 +5,7 @@
 #include <atomic>
 #include <vector>
 
-#include "server/loop/simulation.h"
+#include "core/simulation/simulation.h"
 
 namespace igms {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "igms/haptic_input_t.hpp"
-#include "server/loop/simulation.h"
+#include "core/simulation/simulation.h"
 
 namespace igms {
 

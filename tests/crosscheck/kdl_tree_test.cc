@@ -6,11 +6,11 @@
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 #include <kdl/treejnttojacsolver.hpp>
 
-#include "server/dynamics/external_force.h"
-#include "server/dynamics/rnea.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/kinematics/jacobian.h"
-#include "server/model/configuration.h"
+#include "core/dynamics/external_force.h"
+#include "core/dynamics/rnea.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/kinematics/jacobian.h"
+#include "core/model/configuration.h"
 #include "tests/support/kdl_convert.h"
 #include "tests/support/kdl_from_urdf.h"
 #include "tests/support/test_models.h"

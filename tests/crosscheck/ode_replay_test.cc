@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "server/dynamics/rnea.h"
-#include "server/model/model_loader.h"
+#include "core/dynamics/rnea.h"
+#include "core/model_io/model_loader.h"
 #include "tests/support/test_models.h"
 #include "tools/ode_ref/ode_replay.h"
 

@@ -15,7 +15,7 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
-#include "server/loop/simulation.h"
+#include "core/simulation/simulation.h"
 #include "tests/support/child_process.h"
 #include "tests/support/test_models.h"
 

@@ -5,11 +5,11 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/crba.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/rnea.h"
-#include "server/model/configuration.h"
+#include "core/dynamics/aba.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/rnea.h"
+#include "core/model/configuration.h"
 
 namespace igms::test {
 

@@ -7,7 +7,7 @@
 #include <map>
 #include <vector>
 
-#include "server/model/data.h"
+#include "core/model/data.h"
 
 namespace igms::test {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "server/model/robot_description.h"
-#include "server/model/urdf_loader.h"
+#include "core/model/robot_description.h"
+#include "core/model_io/urdf_loader.h"
 #include "tests/support/random_urdf.h"
 
 namespace igms::test {

@@ -2,11 +2,11 @@
 // DH tables and as URDFs give the same model: same H, bias and link poses.
 #include <gtest/gtest.h>
 
-#include "server/dynamics/crba.h"
-#include "server/dynamics/rnea.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/model/configuration.h"
-#include "server/model/model_loader.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/rnea.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model/configuration.h"
+#include "core/model_io/model_loader.h"
 #include "tests/support/test_models.h"
 #include "tests/support/tolerances.h"
 

@@ -4,14 +4,14 @@
 // recursions. Also: momentum conservation of a free body in zero gravity.
 #include <gtest/gtest.h>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/crba.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/rnea.h"
-#include "server/integrate/integrators.h"
-#include "server/integrate/passive_joint_dynamics.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/model/configuration.h"
+#include "core/dynamics/aba.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/rnea.h"
+#include "core/integrate/integrators.h"
+#include "core/integrate/passive_joint_dynamics.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model/configuration.h"
 #include "tests/support/test_models.h"
 #include "tests/support/tolerances.h"
 

@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "server/model/model_loader.h"
+#include "core/model_io/model_loader.h"
 #include "tests/support/test_models.h"
 #include "tools/igms_dyn/commands.h"
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "server/integrate/integrators.h"
-#include "server/integrate/passive_joint_dynamics.h"
-#include "server/scene/scene.h"
+#include "core/integrate/integrators.h"
+#include "core/integrate/passive_joint_dynamics.h"
+#include "core/scene/scene.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {

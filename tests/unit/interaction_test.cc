@@ -2,8 +2,8 @@
 // boxes, cylinders and spheres against analytic cases.
 #include <gtest/gtest.h>
 
-#include "server/interaction/pull.h"
-#include "server/interaction/push.h"
+#include "core/interaction/pull.h"
+#include "core/interaction/push.h"
 
 namespace igms {
 namespace {

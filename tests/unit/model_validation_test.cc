@@ -2,10 +2,10 @@
 // data (massless links, point masses, broken triangle inequality) loads.
 #include <gtest/gtest.h>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/model/dh_loader.h"
-#include "server/model/model_loader.h"
+#include "core/dynamics/aba.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/model_io/dh_loader.h"
+#include "core/model_io/model_loader.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {

@@ -1,15 +1,15 @@
 // After Data is built, no algorithm touches the heap (malloc is counted).
 #include <gtest/gtest.h>
 
-#include "server/dynamics/aba.h"
-#include "server/dynamics/crba.h"
-#include "server/dynamics/external_force.h"
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/joint_damping.h"
-#include "server/dynamics/rnea.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/kinematics/jacobian.h"
-#include "server/model/configuration.h"
+#include "core/dynamics/aba.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/external_force.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/joint_damping.h"
+#include "core/dynamics/rnea.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/kinematics/jacobian.h"
+#include "core/model/configuration.h"
 #include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "server/kinematics/forward_kinematics.h"
-#include "server/loop/simulation.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/simulation/simulation.h"
 #include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
 

@@ -2,10 +2,10 @@
 // spline is C2 at its knots; the Cartesian line keeps the frame on the line.
 #include <gtest/gtest.h>
 
-#include "server/kinematics/forward_kinematics.h"
-#include "server/model/model_loader.h"
-#include "server/trajectory/cartesian_line.h"
-#include "server/trajectory/piecewise_polynomial.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model_io/model_loader.h"
+#include "core/trajectory/cartesian_line.h"
+#include "core/trajectory/piecewise_polynomial.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "server/dynamics/forward_dynamics.h"
-#include "server/dynamics/rnea.h"
-#include "server/integrate/integrators.h"
-#include "server/integrate/passive_joint_dynamics.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/model/configuration.h"
-#include "server/model/model_loader.h"
-#include "server/model/urdf_loader.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/rnea.h"
+#include "core/integrate/integrators.h"
+#include "core/integrate/passive_joint_dynamics.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model/configuration.h"
+#include "core/model_io/model_loader.h"
+#include "core/model_io/urdf_loader.h"
 #include "tests/support/random_urdf.h"
 #include "tools/ode_ref/ode_robot.h"
 

@@ -4,13 +4,13 @@
 #include <cstdio>
 #include <memory>
 
-#include "server/dynamics/crba.h"
-#include "server/integrate/integrators.h"
-#include "server/integrate/passive_joint_dynamics.h"
-#include "server/loop/simulation.h"
-#include "server/model/configuration.h"
-#include "server/model/model_loader.h"
-#include "server/model/urdf_loader.h"
+#include "core/dynamics/crba.h"
+#include "core/integrate/integrators.h"
+#include "core/integrate/passive_joint_dynamics.h"
+#include "core/simulation/simulation.h"
+#include "core/model/configuration.h"
+#include "core/model_io/model_loader.h"
+#include "core/model_io/urdf_loader.h"
 #include "tests/support/fd_digits.h"
 #include "tests/support/random_urdf.h"
 #include "tools/accuracy/accuracy.h"

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <string>
 
-#include "server/integrate/integrators.h"
-#include "server/integrate/passive_joint_dynamics.h"
-#include "server/model/robot_description.h"
-#include "server/model/urdf_loader.h"
+#include "core/integrate/integrators.h"
+#include "core/integrate/passive_joint_dynamics.h"
+#include "core/model/robot_description.h"
+#include "core/model_io/urdf_loader.h"
 
 namespace igms::accuracy {
 

@@ -3,7 +3,7 @@
 
 #include <iosfwd>
 
-#include "server/model/model.h"
+#include "core/model/model.h"
 
 namespace igms::dyn {
 

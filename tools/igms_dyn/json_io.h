@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "server/model/data.h"
+#include "core/model/data.h"
 
 namespace igms::dyn {
 

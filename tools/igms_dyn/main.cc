@@ -7,7 +7,7 @@
 #include <iostream>
 #include <string>
 
-#include "server/model/model_loader.h"
+#include "core/model_io/model_loader.h"
 #include "tools/igms_dyn/commands.h"
 
 namespace {

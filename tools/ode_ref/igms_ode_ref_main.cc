@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "server/model/configuration.h"
-#include "server/model/model_loader.h"
+#include "core/model/configuration.h"
+#include "core/model_io/model_loader.h"
 #include "tools/eventlog/event_log.h"
 #include "tools/ode_ref/ode_replay.h"
 

@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "channels.h"
-#include "server/dynamics/crba.h"
-#include "server/kinematics/forward_kinematics.h"
-#include "server/model/model_loader.h"
+#include "core/dynamics/crba.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model_io/model_loader.h"
 #include "tools/replay/recorded_session.h"
 
 namespace igms {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <mutex>
 
-#include "server/dynamics/rnea.h"
-#include "server/kinematics/forward_kinematics.h"
+#include "core/dynamics/rnea.h"
+#include "core/kinematics/forward_kinematics.h"
 
 namespace igms {
 namespace {

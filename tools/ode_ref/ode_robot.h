@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "server/model/data.h"
+#include "core/model/data.h"
 
 namespace igms {
 

@@ -11,7 +11,7 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/session_info_t.hpp"
-#include "server/scene/scene.h"
+#include "core/scene/scene.h"
 #include "tools/eventlog/event_log.h"
 
 namespace igms {

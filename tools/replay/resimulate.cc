@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "server/loop/simulation.h"
-#include "server/model/robot_description.h"
+#include "core/simulation/simulation.h"
+#include "core/model/robot_description.h"
 #include "server/transport/input_gate.h"
 #include "tools/replay/recorded_session.h"
 

@@ -3,7 +3,7 @@
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/client_interaction.h"
 #include "server/collision/collision_world.h"
-#include "server/loop/simulation.h"
+#include "core/simulation/simulation.h"
 #include "server/transport/input_gate.h"
 
 #include <memory>

@@ -1,0 +1,15 @@
+// Composite-rigid-body algorithm: the joint-space inertia matrix H(q).
+#pragma once
+
+#include "core/model/data.h"
+
+namespace igms {
+
+// \return data.H (nv x nv, symmetric, both triangles filled). Also leaves
+// data.liMi, data.oMi and data.Ic (composite inertias, world axes) at q.
+const MatrixX& crba(const Model& model, Data& data, const VectorX& q);
+
+// The same with data.liMi already at q (as rnea or bias leave it).
+const MatrixX& crbaAtPlacements(const Model& model, Data& data);
+
+}  // namespace igms

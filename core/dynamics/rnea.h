@@ -1,0 +1,23 @@
+// Recursive Newton-Euler inverse dynamics (Son et al. 2003, section IV.1).
+#pragma once
+
+#include <vector>
+
+#include "core/model/data.h"
+
+namespace igms {
+
+// tau = H(q) a + C(q, v) v + G(q) - sum_i J_i^T f_E,i
+// fext: wrench acting on each body, body coordinates (nullptr: none); see
+// external_force.h. For a floating base the first 6 entries of tau are the
+// base wrench [force; moment] in the base frame.
+// \return data.tau
+const VectorX& rnea(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& a,
+                    const std::vector<Force>* fext = nullptr);
+
+// b(q, v) = C(q, v) v + G(q) (rnea with a = 0), minus J^T f_E when fext is given.
+// \return data.bias
+const VectorX& bias(const Model& model, Data& data, const VectorX& q, const VectorX& v,
+                    const std::vector<Force>* fext = nullptr);
+
+}  // namespace igms

@@ -1,0 +1,90 @@
+#include "core/geometry/tip_contact.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace igms {
+namespace {
+
+// Closest surface point and outward normal of a shape, in its own frame, for a
+// point c; inside = c is inside the shape.
+void closestOnBox(const Vector3& half, const Vector3& c, Vector3& surface, Vector3& normal, bool& inside) {
+  const Vector3 clamped = c.cwiseMax(-half).cwiseMin(half);
+  inside = clamped == c;
+  if (!inside) {
+    surface = clamped;
+    normal = (c - clamped).normalized();
+    return;
+  }
+  // Inside: leave through the nearest face.
+  int axis = 0;
+  double best = 1e300;
+  for (int k = 0; k < 3; ++k) {
+    const double d = half[k] - std::abs(c[k]);
+    if (d < best) { best = d; axis = k; }
+  }
+  surface = c;
+  const double sign = c[axis] >= 0.0 ? 1.0 : -1.0;
+  surface[axis] = sign * half[axis];
+  normal = Vector3::Zero();
+  normal[axis] = sign;
+}
+
+void closestOnCylinder(double radius, double half_length, const Vector3& c, Vector3& surface, Vector3& normal,
+                       bool& inside) {
+  const double rho = std::hypot(c.x(), c.y());
+  const Vector3 radial = rho > 1e-15 ? Vector3(c.x() / rho, c.y() / rho, 0.0) : Vector3::UnitX();
+  const double z = c.z();
+  inside = rho <= radius && std::abs(z) <= half_length;
+  if (!inside) {
+    const double zc = std::clamp(z, -half_length, half_length);
+    const double rc = std::min(rho, radius);
+    surface = Vector3(radial.x() * rc, radial.y() * rc, zc);
+    normal = (c - surface).normalized();
+    return;
+  }
+  const double to_side = radius - rho, to_cap = half_length - std::abs(z);
+  if (to_side < to_cap) {
+    surface = Vector3(radial.x() * radius, radial.y() * radius, z);
+    normal = radial;
+  } else {
+    const double sign = z >= 0.0 ? 1.0 : -1.0;
+    surface = Vector3(c.x(), c.y(), sign * half_length);
+    normal = Vector3(0, 0, sign);
+  }
+}
+
+}  // namespace
+
+TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector3& tip_center, double tip_radius) {
+  TipContact out;
+  const Vector3 c = pose.R.transpose() * (tip_center - pose.p);  // tip in the shape frame
+  Vector3 surface = Vector3::Zero(), normal = Vector3::UnitZ();
+  bool inside = false;
+  switch (shape.kind) {
+    case CollisionShape::Kind::Box:
+      closestOnBox(0.5 * shape.size, c, surface, normal, inside);
+      break;
+    case CollisionShape::Kind::Cylinder:
+      closestOnCylinder(shape.size[0], 0.5 * shape.size[1], c, surface, normal, inside);
+      break;
+    case CollisionShape::Kind::Sphere: {
+      const double r = c.norm();
+      normal = r > 1e-15 ? Vector3(c / r) : Vector3::UnitZ();
+      surface = normal * shape.size[0];
+      inside = r < shape.size[0];
+      break;
+    }
+    case CollisionShape::Kind::Mesh:
+      return out;
+  }
+  // Signed distance from the surface to the tip centre (negative inside).
+  const double distance = inside ? -(surface - c).norm() : (c - surface).norm();
+  out.depth = tip_radius - distance;
+  out.touching = out.depth > 0.0;
+  out.normal = pose.R * normal;
+  out.point = pose.act(surface);
+  return out;
+}
+
+}  // namespace igms

@@ -1,0 +1,20 @@
+// The haptic tip is a small sphere. Its penetration into a primitive shape
+// (box, sphere, cylinder), exact and allocation-free: the d and the normal of
+// eq. (3).
+#pragma once
+
+#include "core/model/model.h"
+
+namespace igms {
+
+struct TipContact {
+  bool touching = false;
+  double depth = 0.0;               // m, > 0 when touching
+  Vector3 normal = Vector3::Zero(); // world, unit, out of the shape toward the tip centre
+  Vector3 point = Vector3::Zero();  // world, on the shape's surface under the tip
+};
+
+// shape.placement is ignored; pose is the shape's world pose. Meshes never touch.
+TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector3& tip_center, double tip_radius);
+
+}  // namespace igms

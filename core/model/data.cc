@@ -1,0 +1,30 @@
+#include "core/model/data.h"
+
+namespace igms {
+
+Data::Data(const Model& m)
+    : liMi(m.nb),
+      oMi(m.nb),
+      oMf(m.frames.size()),
+      v(m.nb),
+      a(m.nb),
+      f(m.nb),
+      fext(m.nb),
+      tau(VectorX::Zero(m.nv)),
+      bias(VectorX::Zero(m.nv)),
+      Ic(m.nb),
+      S_world(m.nv),
+      H(MatrixX::Zero(m.nv, m.nv)),
+      Hfact(MatrixX::Zero(m.nv, m.nv)),
+      qdd(VectorX::Zero(m.nv)),
+      rhs(VectorX::Zero(m.nv)),
+      diag(VectorX::Zero(m.nv)),
+      IA(m.nb),
+      pA(m.nb),
+      c(m.nb),
+      U(Matrix6X::Zero(6, m.nv)),
+      Dinv(VectorX::Zero(m.nv)),
+      u(VectorX::Zero(m.nv)),
+      J(Matrix6X::Zero(6, m.nv)) {}
+
+}  // namespace igms

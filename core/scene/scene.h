@@ -1,0 +1,101 @@
+// Scene: everything a simulation run needs, read from a YAML file. Immutable
+// once loaded; gains live here, never in the Model.
+//
+//   name: puma_wall
+//   robot: {model: ../models/puma560.urdf, floating_base: false}
+//   gravity: [0, 0, -9.81]
+//   initial: {q: [...], v: [...]}              # default: neutral, at rest
+//   obstacles:                                 # boxes, spheres, cylinders
+//     - {name: wall, shape: box, size: [0.05, 1.2, 1.2], xyz: [0.9, 0, 0.5], rpy: [0, 0, 0]}
+//   trajectory:                                # none | joint_waypoints | cartesian_line | file
+//     kind: cartesian_line
+//     frame: ee_link
+//     target: [0.8, 0.0, 0.3]
+//     duration: 3.0
+//   controller: {kp: 400, kd: 40, hold_damping: 2.0}   # scalars or one per joint
+//   interaction:
+//     push: {k_p: 2000, max_force: 40, tip_radius: 0.01}
+//     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0]}
+//     workspace: {scale: 3.0, offset: [0.5, 0.0, 0.3]}   # scene = offset + scale * device
+//   simulation: {integrator: linearly_implicit, dt: 0.001, rate_hz: 1000, joint_damping: true}
+//
+// Paths are relative to the scene file. Errors name the file, line and key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/model/model.h"
+#include "core/model/data.h"
+#include "core/model/robot_description.h"
+
+namespace igms {
+
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class IntegratorKind { SemiImplicitEuler, Rk4, LinearlyImplicit };
+const char* integratorName(IntegratorKind k);
+
+struct Obstacle {
+  std::string name;
+  CollisionShape shape;  // placement = pose in the world
+};
+
+struct TrajectorySpec {
+  enum class Kind { None, JointWaypoints, CartesianLine };
+  Kind kind = Kind::None;
+  std::vector<double> times;       // joint waypoints (also from a file)
+  std::vector<VectorX> waypoints;
+  std::string frame;               // cartesian line
+  Vector3 target = Vector3::Zero();
+  double duration = 0.0;
+};
+
+struct PushParams {
+  bool enabled = false;
+  double k_p = 2000.0;        // N/m (eq. 3)
+  double max_force = 50.0;    // N, clamped and counted
+  double tip_radius = 0.01;   // m
+};
+
+struct PullParams {
+  bool enabled = false;
+  double k = 500.0;            // N/m (eq. 4)
+  double b = 10.0;             // N s/m
+  double max_force = 80.0;     // N
+  double max_stretch = 0.1;    // m: the spring's stretch is capped, so a jump cannot inject a huge force
+  std::string link;            // attachment link (default: the last link of the model)
+  Vector3 point = Vector3::Zero();
+};
+
+struct Scene {
+  std::string name;
+  std::string source;          // the scene file
+  std::string text;            // its content (logged so a replay can rebuild the run)
+  std::string model_path;      // resolved
+  BuildOptions build;          // floating base, gravity
+  VectorX q0, v0;              // empty: neutral, at rest
+  std::vector<Obstacle> obstacles;
+  TrajectorySpec trajectory;
+  VectorX kp, kd;              // computed-torque gains per dof (size nv after resolve)
+  double kp_scalar = 100.0, kd_scalar = 20.0;
+  double hold_damping = 2.0;   // 1/s: while the user interacts, velocities decay at this rate (-c H v)
+  PushParams push;
+  PullParams pull;
+  double workspace_scale = 1.0;
+  Vector3 workspace_offset = Vector3::Zero();
+  IntegratorKind integrator = IntegratorKind::LinearlyImplicit;
+  double dt = 1e-3;            // s
+  double rate_hz = 1000.0;
+  bool joint_damping = true;
+
+  bool needsCollision() const { return !obstacles.empty(); }
+};
+
+Scene loadScene(const std::string& path);
+Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir);
+
+}  // namespace igms

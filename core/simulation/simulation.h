@@ -1,0 +1,139 @@
+// Simulation: the paper's "Steps for Interactive Simulation", one step at a time.
+//
+//   IF there is haptic input (push or pull):
+//     the controller holds gravity and Coriolis compensation plus damping, and
+//     the user's force enters the forward dynamics: U_E = J^T c (push, eq. 3)
+//     or tau = J^T F (pull, eq. 4), computed here from the device state
+//     against the exact robot state;
+//   ELSE:
+//     the trajectory point to follow, computed-torque control by inverse
+//     dynamics (PD on the error), accelerations by forward dynamics (eq. 2);
+//   update the state (the scene's integrator).
+// When an interaction ends, a new C2 (quintic) trajectory starts from the
+// current q, v, qdd toward the goal. The executed motion is recorded as the
+// edited trajectory.
+//
+// Built once from a Scene (allocates); step() never allocates.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/integrate/integrators.h"
+#include "core/interaction/push.h"
+#include "core/interaction/pull.h"
+#include "core/scene/scene.h"
+#include "core/trajectory/piecewise_polynomial.h"
+
+namespace igms {
+
+enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
+
+// One validated haptic input, in scene coordinates.
+struct InteractionInput {
+  InteractionMode mode = InteractionMode::None;
+  Vector3 tip_position = Vector3::Zero();
+  Vector3 tip_velocity = Vector3::Zero();
+  double tip_radius = 0.01;
+  int contact_frame = -1;  // push: the link the client touched (-1: any link with collision shapes)
+  int attach_frame = -1;   // pull: the attachment link (-1: the scene's)
+  Vector3 attach_point = Vector3::Zero();
+  int64_t seq = -1;
+  int32_t client = -1;
+};
+
+// What the last step did, for the state message.
+struct StepOutcome {
+  InteractionMode mode = InteractionMode::None;
+  Vector3 force_on_robot = Vector3::Zero();  // world, N
+  Vector3 force_point = Vector3::Zero();     // world
+  Vector3 device_force = Vector3::Zero();    // to render: the reaction, world, N
+  bool clamped = false;
+  bool replanned = false;                    // a resume trajectory started this step
+  int64_t input_seq = -1;
+  int32_t input_client = -1;
+};
+
+class Simulation {
+ public:
+  // Throws SceneError / ModelError / std::runtime_error with a clear message.
+  explicit Simulation(const Scene& scene);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  void reset();
+  // One step of scene.dt. input may be null (no haptic input this step).
+  // \return false when the state diverged (see divergenceReport()); the state
+  // then stays at the last good one and further steps do nothing.
+  bool step(const InteractionInput* input);
+
+  const Model& model() const { return *model_; }
+  const Scene& scene() const { return scene_; }
+  double time() const { return t_; }
+  int64_t steps() const { return steps_; }
+  const VectorX& q() const { return q_; }
+  const VectorX& v() const { return v_; }
+  const VectorX& qdd() const { return qdd_; }
+  const VectorX& tau() const { return tau_; }
+  const StepOutcome& outcome() const { return outcome_; }
+  bool diverged() const { return diverged_; }
+  const std::string& divergenceReport() const { return divergence_; }
+  int64_t forcesClamped() const { return forces_clamped_; }
+  int pullFrame() const { return pull_frame_; }
+  // World poses of every URDF link at the current state.
+  const std::vector<SE3>& linkPoses();
+  // The goal configuration (end of the nominal trajectory; initial q without one).
+  const VectorX& goal() const { return goal_; }
+  bool hasTrajectory() const { return !nominal_.empty(); }
+
+  // Replace the nominal trajectory (restarts it at the current time).
+  void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
+  // Interaction gains (push k_p, pull k, pull b), e.g. from a SET_GAINS command.
+  void setGains(double push_k_p, double pull_k, double pull_b);
+
+  // The executed motion, sampled every 10 ms (up to 10 minutes).
+  int editedCount() const { return edited_count_; }
+  double editedTime(int k) const { return edited_t_[static_cast<size_t>(k)]; }
+  auto editedPoint(int k) const { return edited_q_.row(k).transpose(); }
+  // Writes it as a scene-loadable waypoint file ({waypoints: [{t, q}]}).
+  void saveEditedTrajectory(const std::string& path) const;
+
+  // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
+  std::vector<std::string> activeComponents() const;
+
+  struct Evaluator;  // forward dynamics with the current coupling (integrators.h)
+
+ private:
+  void computeControl(const InteractionInput* input);
+  void record(bool force);
+  bool checkFinite();
+
+  Scene scene_;
+  std::unique_ptr<const Model> model_;
+  std::unique_ptr<Data> data_;
+  std::unique_ptr<Evaluator> eval_;
+  std::unique_ptr<IntegratorScratch> scratch_;
+  PiecewisePolynomial nominal_, resume_;
+  const PiecewisePolynomial* active_ = nullptr;
+  VectorX q_, v_, qdd_, tau_, goal_, q0_, v0_;
+  VectorX q_ref_, qd_ref_, qdd_ref_, kp_, kd_;
+  double t_ = 0.0;
+  int64_t steps_ = 0;
+  bool interacting_ = false;
+  bool diverged_ = false;
+  std::string divergence_;
+  int64_t forces_clamped_ = 0;
+  int pull_frame_ = -1;
+  StepOutcome outcome_;
+  std::vector<SE3> link_poses_;
+  std::vector<double> edited_t_;
+  MatrixX edited_q_;            // capacity x nq, preallocated
+  int edited_count_ = 0;
+  double next_record_t_ = 0.0;
+  double active_offset_ = 0.0;  // the active trajectory is evaluated at t - active_offset_
+  VectorX q_good_, v_good_;     // last finite state
+};
+
+}  // namespace igms
