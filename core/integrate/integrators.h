@@ -1,36 +1,48 @@
-// One step of (q, v) under qdd = f(q, v), for three schemes. q moves on the
-// configuration group (integrateConfiguration), so a floating base stays on
-// SO(3) with a unit quaternion.
+// One step of (q, v) under qdd = f(q, v), for three schemes, and the one
+// dispatch every caller uses (integrateStep). q moves on the configuration
+// group (integrateConfiguration), so a floating base stays on SO(3) with a
+// unit quaternion.
 //
-// Evaluator interface (one per simulation, preallocated):
-//   void accel(const VectorX& q, const VectorX& v, VectorX& qdd);   // forward dynamics
-// and, for the linearly-implicit scheme, after accel at (q, v):
-//   const MatrixX& H() const;                 // joint-space inertia at q
-//   const VectorX& force() const;             // F(q, v) = H qdd
-//   void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h);
-//       A += h D + h^2 K, rhs -= h^2 K v, with K = -dF/dq, D = -dF/dv of the
-//       stiff terms (couplings, joint damping), symmetric, within H's sparsity.
+// The evaluator f is a value with no hidden inputs: whatever it needs (the
+// controller torque, the user's coupling) was bound into it before the step.
+// Its contract:
+//   using Evaluation = ...;                 // what one evaluation returns, with a VectorX qdd
+//   Evaluation makeEvaluation() const;      // sized once (allocates)
+//   void evaluate(const VectorX& q, const VectorX& v, Evaluation& out);
+// and, for the linearly-implicit scheme, right after evaluate(q, v, at):
+//   void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs);
+//       A = H + h D + h^2 K, rhs = h (F - h K v), where F = H qdd and
+//       K = -dF/dq, D = -dF/dv of the stiff terms (couplings, joint damping),
+//       symmetric, within H's sparsity.
+// Every scheme leaves the evaluation at the step's start state in
+// scratch.start: that is what a step reports (acceleration, force), never
+// whatever a later stage left behind.
 #pragma once
 
 #include "core/dynamics/ltdl.h"
+#include "core/integrate/integrator_kind.h"
 #include "core/model/configuration.h"
 
 namespace igms {
 
+template <typename Evaluation>
 struct IntegratorScratch {
-  explicit IntegratorScratch(const Model& m)
-      : qdd(m.nv), k1(m.nv), k2(m.nv), k3(m.nv), k4(m.nv), v2(m.nv), v3(m.nv), v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq),
-        A(m.nv, m.nv), rhs(m.nv), diag(m.nv) {}
-  VectorX qdd, k1, k2, k3, k4, v2, v3, v4, u, r2, r3, r4, qt;
+  template <typename Eval>
+  IntegratorScratch(const Model& m, const Eval& f)
+      : start(f.makeEvaluation()), stage(f.makeEvaluation()), k2(m.nv), k3(m.nv), v2(m.nv), v3(m.nv),
+        v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m.nv, m.nv), rhs(m.nv), diag(m.nv) {}
+  Evaluation start;  // f at the step's start state
+  Evaluation stage;  // RK4's later stages
+  VectorX k2, k3, v2, v3, v4, u, r2, r3, r4, qt;
   MatrixX A;
   VectorX rhs, diag;
 };
 
 // v+ = v + h f(q, v); q+ = q (+) h v+. Stable for a spring only while k h^2 / m < 4.
-template <typename Eval>
-void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, IntegratorScratch& s) {
-  f.accel(q, v, s.qdd);
-  v += h * s.qdd;
+template <typename Eval, typename Scratch>
+void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
+  f.evaluate(q, v, s.start);
+  v += h * s.start.qdd;
   integrateConfiguration(m, q, v, h, q);
 }
 
@@ -38,44 +50,58 @@ void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, doub
 // sits at q (+) u_i, and its configuration rate is v_i carried back to q's
 // tangent space through dexp^{-1} (configurationRate). Without that correction
 // a floating base would be only second order.
-template <typename Eval>
-void stepRk4(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, IntegratorScratch& s) {
-  f.accel(q, v, s.k1);                            // stage 1: u = 0, rate v
-  s.v2 = v + 0.5 * h * s.k1;
+template <typename Eval, typename Scratch>
+void stepRk4(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
+  f.evaluate(q, v, s.start);                      // stage 1: u = 0, rate v
+  const VectorX& k1 = s.start.qdd;
+  s.v2 = v + 0.5 * h * k1;
   s.u = 0.5 * h * v;
   integrateConfiguration(m, q, s.u, 1.0, s.qt);
-  f.accel(s.qt, s.v2, s.k2);
+  f.evaluate(s.qt, s.v2, s.stage);
+  s.k2 = s.stage.qdd;
   configurationRate(m, s.u, s.v2, s.r2);
   s.v3 = v + 0.5 * h * s.k2;
   s.u = 0.5 * h * s.r2;
   integrateConfiguration(m, q, s.u, 1.0, s.qt);
-  f.accel(s.qt, s.v3, s.k3);
+  f.evaluate(s.qt, s.v3, s.stage);
+  s.k3 = s.stage.qdd;
   configurationRate(m, s.u, s.v3, s.r3);
   s.v4 = v + h * s.k3;
   s.u = h * s.r3;
   integrateConfiguration(m, q, s.u, 1.0, s.qt);
-  f.accel(s.qt, s.v4, s.k4);
+  f.evaluate(s.qt, s.v4, s.stage);
   configurationRate(m, s.u, s.v4, s.r4);
   s.u = (h / 6.0) * (v + 2.0 * s.r2 + 2.0 * s.r3 + s.r4);
   integrateConfiguration(m, q, s.u, 1.0, q);
-  v += (h / 6.0) * (s.k1 + 2.0 * s.k2 + 2.0 * s.k3 + s.k4);
+  v += (h / 6.0) * (k1 + 2.0 * s.k2 + 2.0 * s.k3 + s.stage.qdd);
 }
 
 // Linearly-implicit Euler: the stiff terms are taken at the end of the step,
 //   (H + h D + h^2 K) dv = h (F - h K v),  v+ = v + dv,  q+ = q (+) h v+,
 // so springs of any stiffness stay stable (and dissipative) at a fixed h.
 // \return false when the system matrix is singular.
-template <typename Eval>
-bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, IntegratorScratch& s) {
-  f.accel(q, v, s.qdd);
-  s.A = f.H();
-  s.rhs = h * f.force();
-  f.addStiffness(s.A, s.rhs, v, h);
+template <typename Eval, typename Scratch>
+bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
+  f.evaluate(q, v, s.start);
+  f.linearSystem(s.start, v, h, s.A, s.rhs);
   if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag) >= 0) return false;
   ltdlSolve(m.dof_parent, s.A, s.rhs);
   v += s.rhs;
   integrateConfiguration(m, q, v, h, q);
   return true;
+}
+
+// One step of the scheme `kind`: the only switch on the scheme in igms.
+// \return false when the linearly-implicit system was singular. Either way
+// s.start holds f at the start state.
+template <typename Eval, typename Scratch>
+bool integrateStep(IntegratorKind kind, const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
+  switch (kind) {
+    case IntegratorKind::SemiImplicitEuler: stepSemiImplicitEuler(m, f, q, v, h, s); return true;
+    case IntegratorKind::Rk4: stepRk4(m, f, q, v, h, s); return true;
+    case IntegratorKind::LinearlyImplicit: return stepLinearlyImplicit(m, f, q, v, h, s);
+  }
+  return false;
 }
 
 }  // namespace igms

@@ -8,27 +8,36 @@
 #include <limits>
 
 #include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/joint_damping.h"
 
 namespace igms {
 
 class PassiveJointDynamics {
  public:
-  PassiveJointDynamics(const Model& model, bool joint_damping, double spring_k = 0.0)
-      : m_(model), damping_(joint_damping), k_(spring_k), d_(model), tau_(model.nv), F_(model.nv) {}
+  struct Evaluation {
+    VectorX qdd;  // NaN when H is singular (the integrators' callers check finiteness)
+    VectorX F;    // H qdd
+  };
 
-  // qdd is NaN when H is singular (the integrators' callers check finiteness).
-  void accel(const VectorX& q, const VectorX& v, VectorX& qdd) {
-    for (int i = 0; i < m_.nv; ++i) tau_[i] = -(damping_ ? m_.damping[i] * v[i] : 0.0) - k_ * q[i];
-    if (!forwardDynamics(m_, d_, q, v, tau_)) {
-      qdd.setConstant(std::numeric_limits<double>::quiet_NaN());
+  PassiveJointDynamics(const Model& model, bool joint_damping, double spring_k = 0.0)
+      : m_(model), damping_(joint_damping), k_(spring_k), d_(model) {}
+
+  Evaluation makeEvaluation() const { return {VectorX::Zero(m_.nv), VectorX::Zero(m_.nv)}; }
+
+  void evaluate(const VectorX& q, const VectorX& v, Evaluation& out) {
+    out.F = -k_ * q.head(m_.nv);
+    if (damping_) addJointDamping(m_, v, out.F);
+    if (!forwardDynamics(m_, d_, q, v, out.F)) {
+      out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());
       return;
     }
-    F_ = tau_ - d_.bias;
-    qdd = d_.qdd;
+    out.F -= d_.bias;
+    out.qdd = d_.qdd;
   }
-  const MatrixX& H() const { return d_.H; }
-  const VectorX& force() const { return F_; }
-  void addStiffness(MatrixX& A, VectorX& rhs, const VectorX& v, double h) {
+
+  void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) const {
+    A = d_.H;
+    rhs = h * at.F;
     for (int i = 0; i < m_.nv; ++i) {
       A(i, i) += h * (damping_ ? m_.damping[i] : 0.0) + h * h * k_;
       rhs[i] -= h * h * k_ * v[i];
@@ -40,7 +49,6 @@ class PassiveJointDynamics {
   bool damping_;
   double k_;
   Data d_;
-  VectorX tau_, F_;
 };
 
 }  // namespace igms

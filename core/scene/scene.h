@@ -20,11 +20,14 @@
 //   simulation: {integrator: linearly_implicit, dt: 0.001, rate_hz: 1000, joint_damping: true}
 //
 // Paths are relative to the scene file. Errors name the file, line and key.
+// Checks against the model (sizes, link names) are resolveScene's
+// (resolved_scene.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "core/integrate/integrator_kind.h"
 #include "core/model/model.h"
 #include "core/model/data.h"
 #include "core/model/robot_description.h"
@@ -36,8 +39,6 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class IntegratorKind { SemiImplicitEuler, Rk4, LinearlyImplicit };
-const char* integratorName(IntegratorKind k);
 
 struct Obstacle {
   std::string name;
@@ -80,7 +81,7 @@ struct Scene {
   VectorX q0, v0;              // empty: neutral, at rest
   std::vector<Obstacle> obstacles;
   TrajectorySpec trajectory;
-  VectorX kp, kd;              // computed-torque gains per dof (size nv after resolve)
+  VectorX kp, kd;              // computed-torque gains per dof as written (empty: the scalars)
   double kp_scalar = 100.0, kd_scalar = 20.0;
   double hold_damping = 2.0;   // 1/s: while the user interacts, velocities decay at this rate (-c H v)
   PushParams push;

@@ -91,15 +91,6 @@ std::string join(const std::string& dir, const std::string& path) {
 
 }  // namespace
 
-const char* integratorName(IntegratorKind k) {
-  switch (k) {
-    case IntegratorKind::SemiImplicitEuler: return "semi_implicit_euler";
-    case IntegratorKind::Rk4: return "rk4";
-    case IntegratorKind::LinearlyImplicit: return "linearly_implicit";
-  }
-  return "?";
-}
-
 Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir) {
   Reader r{source};
   YAML::Node root;
@@ -242,10 +233,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   if (const YAML::Node sim = root["simulation"]) {
     r.onlyKeys(sim, "simulation", {"integrator", "dt", "rate_hz", "joint_damping"});
     const std::string integ = r.text(sim, "integrator", "linearly_implicit");
-    if (integ == "semi_implicit_euler") s.integrator = IntegratorKind::SemiImplicitEuler;
-    else if (integ == "rk4") s.integrator = IntegratorKind::Rk4;
-    else if (integ == "linearly_implicit") s.integrator = IntegratorKind::LinearlyImplicit;
-    else r.fail(sim["integrator"], "simulation.integrator", "must be semi_implicit_euler, rk4 or linearly_implicit");
+    if (!parseIntegrator(integ, &s.integrator)) r.fail(sim["integrator"], "simulation.integrator", "must be semi_implicit_euler, rk4 or linearly_implicit");
     s.dt = r.positive(sim, "dt", s.dt, "simulation");
     s.rate_hz = r.positive(sim, "rate_hz", 1.0 / s.dt, "simulation");
     s.joint_damping = r.flag(sim, "joint_damping", true);

@@ -21,14 +21,11 @@
 #include <vector>
 
 #include "core/integrate/integrators.h"
-#include "core/interaction/push.h"
-#include "core/interaction/pull.h"
-#include "core/scene/scene.h"
+#include "core/scene/resolved_scene.h"
+#include "core/simulation/coupled_dynamics.h"
 #include "core/trajectory/piecewise_polynomial.h"
 
 namespace igms {
-
-enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
 
 // One validated haptic input, in scene coordinates.
 struct InteractionInput {
@@ -43,12 +40,12 @@ struct InteractionInput {
   int32_t client = -1;
 };
 
-// What the last step did, for the state message.
+// What the last step did, for the state message: the user's force at the
+// step's start state, whatever the integrator (what the paper plots).
 struct StepOutcome {
   InteractionMode mode = InteractionMode::None;
-  Vector3 force_on_robot = Vector3::Zero();  // world, N
+  Vector3 force_on_robot = Vector3::Zero();  // world, N (the device renders its reaction)
   Vector3 force_point = Vector3::Zero();     // world
-  Vector3 device_force = Vector3::Zero();    // to render: the reaction, world, N
   bool clamped = false;
   bool replanned = false;                    // a resume trajectory started this step
   int64_t input_seq = -1;
@@ -58,7 +55,8 @@ struct StepOutcome {
 class Simulation {
  public:
   // Throws SceneError / ModelError / std::runtime_error with a clear message.
-  explicit Simulation(const Scene& scene);
+  explicit Simulation(ResolvedScene resolved);
+  explicit Simulation(const Scene& scene) : Simulation(resolveScene(scene)) {}
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -71,6 +69,7 @@ class Simulation {
 
   const Model& model() const { return *model_; }
   const Scene& scene() const { return scene_; }
+  const ResolvedScene& resolved() const { return resolved_; }
   double time() const { return t_; }
   int64_t steps() const { return steps_; }
   const VectorX& q() const { return q_; }
@@ -81,7 +80,7 @@ class Simulation {
   bool diverged() const { return diverged_; }
   const std::string& divergenceReport() const { return divergence_; }
   int64_t forcesClamped() const { return forces_clamped_; }
-  int pullFrame() const { return pull_frame_; }
+  int pullFrame() const { return resolved_.pull_frame; }
   // World poses of every URDF link at the current state.
   const std::vector<SE3>& linkPoses();
   // The goal configuration (end of the nominal trajectory; initial q without one).
@@ -103,29 +102,34 @@ class Simulation {
   // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
   std::vector<std::string> activeComponents() const;
 
-  struct Evaluator;  // forward dynamics with the current coupling (integrators.h)
+  // The evaluation at the start state of the last step (acceleration, H qdd,
+  // the user's force and its linearisation).
+  const CoupledEvaluation& lastEvaluation() const { return scratch_->start; }
 
  private:
   void computeControl(const InteractionInput* input);
   void record(bool force);
   bool checkFinite();
 
-  Scene scene_;
-  std::unique_ptr<const Model> model_;
+  const ResolvedScene resolved_;
+  const Scene& scene_;                  // resolved_.scene
+  std::shared_ptr<const Model> model_;  // resolved_.model
   std::unique_ptr<Data> data_;
-  std::unique_ptr<Evaluator> eval_;
-  std::unique_ptr<IntegratorScratch> scratch_;
+  std::unique_ptr<CoupledDynamics> dynamics_;
+  std::unique_ptr<IntegratorScratch<CoupledEvaluation>> scratch_;
+  // The step's inputs, set by computeControl and passed to the dynamics.
+  Coupling coupling_;
+  double hold_rate_ = 0.0;
   PiecewisePolynomial nominal_, resume_;
   const PiecewisePolynomial* active_ = nullptr;
-  VectorX q_, v_, qdd_, tau_, goal_, q0_, v0_;
-  VectorX q_ref_, qd_ref_, qdd_ref_, kp_, kd_;
+  VectorX q_, v_, qdd_, tau_, goal_, zero_;
+  VectorX q_ref_, qd_ref_, qdd_ref_, qdd_cmd_;
   double t_ = 0.0;
   int64_t steps_ = 0;
   bool interacting_ = false;
   bool diverged_ = false;
   std::string divergence_;
   int64_t forces_clamped_ = 0;
-  int pull_frame_ = -1;
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
   std::vector<double> edited_t_;

@@ -1,10 +1,13 @@
 #include "haptic_client/servo/client_interaction.h"
 
+#include "core/geometry/deepest_contact.h"
+#include "core/interaction/pull.h"
+#include "core/interaction/push.h"
+
 namespace igms {
 
-ClientInteraction::ClientInteraction(const Model& model, const Scene& scene) : model_(model), scene_(scene) {
-  pull_frame_ = model.frameIndex(scene.pull.link.empty() ? model.frames.back().name : scene.pull.link);
-}
+ClientInteraction::ClientInteraction(const ResolvedScene& r)
+    : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame) {}
 
 void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons,
                                   const std::vector<SE3>& links, haptic_input_t& msg) {
@@ -13,7 +16,7 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   // link must leave it once before it can push.
   int8_t mode = haptic_input_t::MODE_NONE;
   const bool was_pulling = pulling_;
-  pulling_ = (buttons & 1) && scene_.pull.enabled && pull_frame_ >= 0;
+  pulling_ = (buttons & 1) && pull_frame_ >= 0;
   if (pulling_) mode = haptic_input_t::MODE_PULL;
   else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
   if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
@@ -25,15 +28,6 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   msg.tip_radius = scene_.push.tip_radius;
   msg.buttons = buttons;
   msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model_.frames[static_cast<size_t>(contact_frame_)].name : "";
-  msg.penetration = mode == haptic_input_t::MODE_PUSH ? contact_.depth : 0.0;
-  for (int i = 0; i < 3; ++i) msg.contact_point[i] = msg.contact_normal[i] = 0.0;
-  if (mode == haptic_input_t::MODE_PUSH) {
-    const Vector3 local = links[static_cast<size_t>(contact_frame_)].inverse().act(contact_.point);
-    for (int i = 0; i < 3; ++i) {
-      msg.contact_point[i] = local[i];
-      msg.contact_normal[i] = contact_.normal[i];
-    }
-  }
   msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(pull_frame_)].name : "";
   for (int i = 0; i < 3; ++i) msg.attach_point[i] = scene_.pull.point[i];
 }
@@ -62,16 +56,10 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
     }
   }
   if (!scene_.push.enabled) return on_user;
-  for (size_t f = 0; f < model_.frames.size(); ++f) {
-    if (model_.frames[f].body < 0) continue;
-    for (const auto& shape : model_.frames[f].collisions) {
-      const TipContact c = tipContact(shape, links[f] * shape.placement, tip, scene_.push.tip_radius);
-      if (c.touching && c.depth > contact_.depth) {
-        contact_ = c;
-        contact_frame_ = static_cast<int>(f);
-      }
-    }
-  }
+  const LinkContact touch = deepestContact(
+      model_, [&](int f) { return links[static_cast<size_t>(f)]; }, tip, scene_.push.tip_radius);
+  contact_ = touch.contact;
+  contact_frame_ = touch.frame;
   // A push starts at the surface: contact engages only when it begins
   // shallow, and lasts until the tip leaves. A tip that appears deep inside
   // (a jump, or a pull released inside the wrist) pushes nothing.

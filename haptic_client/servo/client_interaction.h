@@ -8,15 +8,14 @@
 
 #include "haptic_client/servo/force_render.h"
 #include "igms/haptic_input_t.hpp"
-#include "core/interaction/pull.h"
-#include "core/interaction/push.h"
-#include "core/scene/scene.h"
+#include "core/geometry/tip_contact.h"
+#include "core/scene/resolved_scene.h"
 
 namespace igms {
 
 class ClientInteraction {
  public:
-  ClientInteraction(const Model& model, const Scene& scene);
+  explicit ClientInteraction(const ResolvedScene& resolved);
 
   // Step 2 of a cycle: the input (mode, tip, contact as seen against `links`,
   // attachment) from the device and the contact found in the last cycle.
@@ -36,7 +35,7 @@ class ClientInteraction {
  private:
   const Model& model_;
   const Scene& scene_;
-  int pull_frame_ = -1;
+  const int pull_frame_;  // -1: pull is off
   StartupGuard guard_;
   LossRamp ramp_;
   ResyncBlend blend_;

@@ -22,7 +22,7 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
-#include "core/model_io/model_loader.h"
+#include "core/scene/resolved_scene.h"
 #include "core/scene/scene.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/triple_buffer.h"
@@ -137,17 +137,17 @@ class Bus {
 }  // namespace
 
 int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
-  Scene scene;
-  std::unique_ptr<Model> model;
+  ResolvedScene resolved;
   FallbackPolicy policy;
   try {
-    scene = loadScene(o.scene_path);
-    model = std::make_unique<Model>(loadModel(scene.model_path, scene.build));
+    resolved = resolveScene(loadScene(o.scene_path));
     if (!parseFallback(o.fallback, &policy)) throw std::runtime_error("--fallback is hold, extrapolate or interpolate");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
   }
+  const Scene& scene = resolved.scene;
+  const Model* model = resolved.model.get();
   const int nlinks = static_cast<int>(model->frames.size());
   Received initial;
   initial.sample.links.assign(static_cast<size_t>(nlinks), SE3::Identity());
@@ -255,7 +255,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   haptic_input_t msg{};
   msg.client_id = o.client_id;
   msg.tip_radius = scene.push.tip_radius;
-  ClientInteraction interaction(*model, scene);
+  ClientInteraction interaction(resolved);
   int64_t consecutive = 0;
   double expected_time = 0.0;
   const DeviceLimits limits = device->limits();

@@ -210,7 +210,6 @@ class Publisher {
     for (int k = 0; k < 3; ++k) {
       msg_.interaction_force[k] = s.outcome.force_on_robot[k];
       msg_.interaction_point[k] = s.outcome.force_point[k];
-      msg_.device_force[k] = s.outcome.device_force[k];
     }
     for (size_t f = 0; f < s.link_poses.size(); ++f) {
       const SE3& X = s.link_poses[f];

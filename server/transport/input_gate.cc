@@ -38,16 +38,14 @@ void InputGate::newSession(int64_t token) {
 }
 
 bool toInteractionInput(const haptic_input_t& m, const Model& model, InteractionInput* out, RejectReason* why) {
-  if (!finite3(m.tip_position) || !finite3(m.tip_velocity) || !finite3(m.contact_point) ||
-      !finite3(m.contact_normal) || !finite3(m.attach_point) || !std::isfinite(m.penetration) ||
+  if (!finite3(m.tip_position) || !finite3(m.tip_velocity) || !finite3(m.attach_point) ||
       !std::isfinite(m.tip_radius)) {
     *why = RejectReason::NonFinite;
     return false;
   }
   if (m.mode < haptic_input_t::MODE_NONE || m.mode > haptic_input_t::MODE_PULL ||
       norm3(m.tip_position) > kMaxPosition || norm3(m.tip_velocity) > kMaxSpeed || m.tip_radius < 0.0 ||
-      m.tip_radius > kMaxTipRadius || m.penetration < 0.0 || m.penetration > 1.0 || norm3(m.attach_point) > 10.0 ||
-      norm3(m.contact_point) > 10.0) {
+      m.tip_radius > kMaxTipRadius || norm3(m.attach_point) > 10.0) {
     *why = RejectReason::Range;
     return false;
   }

@@ -115,7 +115,7 @@ TEST_P(FloatingBase, FreeRobotConservesMomentumInZeroGravity) {
   };
   const Vector6 h0 = momentum(q, v);
   PassiveJointDynamics free_motion(m, false);
-  IntegratorScratch scratch(m);
+  IntegratorScratch<PassiveJointDynamics::Evaluation> scratch(m, free_motion);
   for (int step = 0; step < 1000; ++step) stepRk4(m, free_motion, q, v, 1e-3, scratch);
   const Vector6 h1 = momentum(q, v);
   // Fourth order on the group (RKMK): the drift over 1 s at 1 ms is of the

@@ -24,15 +24,11 @@ const char* kPendulum =
 double simulate(const Model& m, IntegratorKind kind, double h, double T, double spring_k = 0.0,
                 double q0 = 1.0) {
   PassiveJointDynamics f(m, /*joint_damping=*/true, spring_k);
-  IntegratorScratch s(m);
+  IntegratorScratch<PassiveJointDynamics::Evaluation> s(m, f);
   VectorX q = VectorX::Constant(m.nq, q0), v = VectorX::Zero(m.nv);
   const int n = static_cast<int>(std::lround(T / h));
   for (int k = 0; k < n; ++k) {
-    switch (kind) {
-      case IntegratorKind::SemiImplicitEuler: stepSemiImplicitEuler(m, f, q, v, h, s); break;
-      case IntegratorKind::Rk4: stepRk4(m, f, q, v, h, s); break;
-      case IntegratorKind::LinearlyImplicit: EXPECT_TRUE(stepLinearlyImplicit(m, f, q, v, h, s)); break;
-    }
+    EXPECT_TRUE(integrateStep(kind, m, f, q, v, h, s));
     if (!q.allFinite() || std::abs(q[0]) > 1e6) return INFINITY;
   }
   return q[0];

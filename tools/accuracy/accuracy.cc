@@ -152,16 +152,12 @@ Run simulate(const Case& c, Method method, double h) {
     }
   } else {
     PassiveJointDynamics f(m, c.damping);  // free motion: no torques but the joint damping
-    IntegratorScratch scratch(m);
+    IntegratorScratch<PassiveJointDynamics::Evaluation> scratch(m, f);
+    const IntegratorKind kind = integratorOf(method);
     for (int k = 0; k < samples && !run.diverged; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       for (int j = 0; j < per_sample && !run.diverged; ++j) {
-        switch (method) {
-          case Method::SemiImplicitEuler: stepSemiImplicitEuler(m, f, q, v, h, scratch); break;
-          case Method::Rk4: stepRk4(m, f, q, v, h, scratch); break;
-          default: run.diverged = !stepLinearlyImplicit(m, f, q, v, h, scratch); break;
-        }
-        run.diverged = run.diverged || !finiteAndBounded(q, v);
+        run.diverged = !integrateStep(kind, m, f, q, v, h, scratch) || !finiteAndBounded(q, v);
       }
       wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       normalizeConfiguration(m, q);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/integrate/integrator_kind.h"
 #include "core/model/data.h"
 
 namespace igms::accuracy {
@@ -26,6 +27,13 @@ std::vector<std::string> caseNames();
 
 enum class Method { SemiImplicitEuler, Rk4, LinearlyImplicit, Ode, OdeQuick };
 const char* methodName(Method m);
+// igms's own schemes by their integrator; ODE's are not (isOde).
+inline bool isOde(Method m) { return m == Method::Ode || m == Method::OdeQuick; }
+inline IntegratorKind integratorOf(Method m) {
+  return m == Method::SemiImplicitEuler ? IntegratorKind::SemiImplicitEuler
+         : m == Method::Rk4             ? IntegratorKind::Rk4
+                                        : IntegratorKind::LinearlyImplicit;
+}
 std::vector<Method> allMethods();
 
 // A run sampled every 32 ms (the largest step divides it).

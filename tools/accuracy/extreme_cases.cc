@@ -34,7 +34,7 @@ const Method kMethods[] = {Method::SemiImplicitEuler, Method::Rk4, Method::Linea
 class Integration {
  public:
   Integration(const Model& m, Method method, const VectorX& q0, const VectorX& v0, bool damping = false)
-      : m_(m), method_(method), q_(q0), v_(v0), good_q_(q0), good_v_(v0), f_(m, damping), s_(m), d_(m) {
+      : m_(m), method_(method), q_(q0), v_(v0), good_q_(q0), good_v_(v0), f_(m, damping), s_(m, f_), d_(m) {
     if (method == Method::Ode || method == Method::OdeQuick) {
       OdeSettings settings;
       settings.quickstep = method == Method::OdeQuick;
@@ -46,13 +46,11 @@ class Integration {
   bool step(double h) {
     if (diverged_) return false;
     bool ok = true;
-    switch (method_) {
-      case Method::SemiImplicitEuler: stepSemiImplicitEuler(m_, f_, q_, v_, h, s_); break;
-      case Method::Rk4: stepRk4(m_, f_, q_, v_, h, s_); break;
-      case Method::LinearlyImplicit: ok = stepLinearlyImplicit(m_, f_, q_, v_, h, s_); break;
-      default:
-        ode_->step(tau_, h);
-        ode_->state(q_, v_);
+    if (isOde(method_)) {
+      ode_->step(tau_, h);
+      ode_->state(q_, v_);
+    } else {
+      ok = integrateStep(integratorOf(method_), m_, f_, q_, v_, h, s_);
     }
     t_ += h;
     if (!ok || !finiteAndBounded(q_, v_)) {
@@ -90,7 +88,7 @@ class Integration {
   Method method_;
   VectorX q_, v_, good_q_, good_v_, tau_;
   PassiveJointDynamics f_;
-  IntegratorScratch s_;
+  IntegratorScratch<PassiveJointDynamics::Evaluation> s_;
   Data d_;
   std::unique_ptr<OdeRobot> ode_;
   bool diverged_ = false;

@@ -10,6 +10,12 @@
 
 namespace igms::accuracy {
 
+namespace {
+// The order of StiffnessResult's columns.
+constexpr IntegratorKind kSchemes[] = {IntegratorKind::SemiImplicitEuler, IntegratorKind::Rk4,
+                                       IntegratorKind::LinearlyImplicit};
+}  // namespace
+
 std::vector<StiffnessResult> stiffnessSweep(double mass, double h, const std::vector<double>& ks, double seconds) {
   const std::string urdf =
       "<robot name=\"slider\"><link name=\"base\"/><link name=\"body\"><inertial><mass value=\"" +
@@ -25,15 +31,13 @@ std::vector<StiffnessResult> stiffnessSweep(double mass, double h, const std::ve
     StiffnessResult r{k, k * h * h / mass, {false, false, false}, {0, 0, 0}};
     for (int method = 0; method < 3; ++method) {
       PassiveJointDynamics f(m, /*joint_damping=*/false, k);
-      IntegratorScratch s(m);
+      IntegratorScratch<PassiveJointDynamics::Evaluation> s(m, f);
       VectorX q = VectorX::Constant(1, 0.001), v = VectorX::Zero(1);
       const double E0 = 0.5 * k * q[0] * q[0];
       double worst = 1.0;
       const int n = static_cast<int>(seconds / h);
       for (int i = 0; i < n; ++i) {
-        if (method == 0) stepSemiImplicitEuler(m, f, q, v, h, s);
-        else if (method == 1) stepRk4(m, f, q, v, h, s);
-        else stepLinearlyImplicit(m, f, q, v, h, s);
+        integrateStep(kSchemes[method], m, f, q, v, h, s);
         const double E = 0.5 * k * q[0] * q[0] + 0.5 * mass * v[0] * v[0];
         if (!std::isfinite(E) || E > 1e12 * E0) {
           worst = INFINITY;

@@ -7,6 +7,7 @@
 #include "core/dynamics/crba.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/model_io/model_loader.h"
+#include "core/scene/resolved_scene.h"
 #include "tools/replay/recorded_session.h"
 
 namespace igms {
@@ -69,16 +70,15 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     return out;
   }
   out.info = session.info;
-  Scene scene;
-  std::unique_ptr<Model> model_ptr;
+  ResolvedScene resolved;
   try {
-    scene = recordedScene(session, base_dir);
-    model_ptr = std::make_unique<Model>(buildModel(loadDescription(scene.model_path), scene.build));
+    resolved = resolveScene(recordedScene(session, base_dir));
   } catch (const std::exception& e) {
     out.error = std::string("cannot rebuild the scene: ") + e.what();
     return out;
   }
-  const Model& m = *model_ptr;
+  const Scene& scene = resolved.scene;
+  const Model& m = *resolved.model;
   const auto& states = session.states;
   if (states.empty() || states.front().seq != 0) {
     out.error = "the log does not start with the initial state (seq 0): the logger started late";
@@ -97,11 +97,9 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
   const double h = scene.dt;
   out.dt = h;
   const bool has_trajectory = scene.trajectory.kind != TrajectorySpec::Kind::None;
-  const int pull_frame = scene.pull.enabled
-                             ? m.frameIndex(scene.pull.link.empty() ? m.frames.back().name : scene.pull.link)
-                             : -1;
-  const VectorX kp = scene.kp.size() == m.nv ? scene.kp : VectorX::Constant(m.nv, scene.kp_scalar);
-  const VectorX kd = scene.kd.size() == m.nv ? scene.kd : VectorX::Constant(m.nv, scene.kd_scalar);
+  const int pull_frame = resolved.pull_frame;
+  const VectorX& kp = resolved.kp;
+  const VectorX& kd = resolved.kd;
   double correction_sq = 0.0, tau_sq = 0.0;
   Data d(m);
   VectorX q = Eigen::Map<const VectorX>(states[0].q.data(), m.nq);
@@ -162,7 +160,6 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     for (int i = 0; i < 3; ++i) {
       s.interaction_force[i] = st.interaction_force[i];
       s.interaction_point[i] = st.interaction_point[i];
-      s.device_force[i] = st.device_force[i];
     }
     // Deviation from the recorded igms run.
     for (int i = 0; i < m.nb; ++i) {

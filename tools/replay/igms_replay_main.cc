@@ -214,7 +214,8 @@ int exportCsv(const std::string& path, const std::string& dir) {
       if (s.decode(d, 0, n) < 0) continue;
       server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
              << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
-             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "\n";
+             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
+             << s.commands_rejected << "\n";
     } else if (e.channel == igms::channels::kRobotState) {
       igms::robot_state_t s;
       if (s.decode(d, 0, n) < 0) continue;
@@ -224,7 +225,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
         for (int j = 0; j < s.nv; ++j) states << ",v" << j;
         for (int j = 0; j < s.nv; ++j) states << ",qdd" << j;
         for (int j = 0; j < s.nv; ++j) states << ",tau" << j;
-        states << ",fx,fy,fz,px,py,pz,device_fx,device_fy,device_fz,min_obstacle_distance,in_collision,step_us";
+        states << ",fx,fy,fz,px,py,pz,min_obstacle_distance,in_collision,step_us";
         for (int l = 0; l < s.nlinks; ++l) {
           const std::string name = l < static_cast<int>(links.size()) ? links[l] : "link" + std::to_string(l);
           states << "," << name << ".x," << name << ".y," << name << ".z";
@@ -239,7 +240,6 @@ int exportCsv(const std::string& path, const std::string& dir) {
       for (double x : s.tau) states << "," << x;
       for (double x : s.interaction_force) states << "," << x;
       for (double x : s.interaction_point) states << "," << x;
-      for (double x : s.device_force) states << "," << x;
       states << "," << s.min_obstacle_distance << "," << int{s.in_collision} << "," << s.step_us;
       for (const auto& p : s.link_poses) states << "," << p[0] << "," << p[1] << "," << p[2];
       states << "\n";
@@ -247,7 +247,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
       igms::haptic_input_t s;
       if (s.decode(d, 0, n) < 0) continue;
       inputs << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
-             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.penetration << "," << s.attach_link
+             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link
              << "\n";
     } else if (e.channel == igms::channels::kClientStatus) {
       igms::client_status_t s;

@@ -13,13 +13,13 @@ namespace igms {
 ScenarioResult runScenario(const Scene& scene, const std::string& script, double seconds,
                            const std::string& save_edited, double reach_tolerance) {
   ScenarioResult out;
-  Simulation sim(scene);
+  Simulation sim(resolveScene(scene));
   const Model& model = sim.model();
   std::vector<Obstacle> others;  // every obstacle but the wall the motion is meant to reach
   for (const auto& o : scene.obstacles)
     if (o.name != "wall") others.push_back(o);
   CollisionWorld all(model, scene.obstacles), not_wall(model, others);
-  ClientInteraction client(model, scene);
+  ClientInteraction client(sim.resolved());
   std::vector<SE3> links = sim.linkPoses();
   std::unique_ptr<ScriptedDevice> device;  // none: no haptic input at all (the nominal run)
   if (!script.empty())

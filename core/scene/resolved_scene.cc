@@ -1,0 +1,45 @@
+#include "core/scene/resolved_scene.h"
+
+#include "core/model/configuration.h"
+#include "core/model_io/model_loader.h"
+
+namespace igms {
+
+namespace {
+
+VectorX perJoint(const Scene& s, const VectorX& given, double scalar, const char* key, int nv) {
+  if (!given.size()) return VectorX::Constant(nv, scalar);
+  if (given.size() != nv)
+    throw SceneError(s.source + ": controller." + key + " needs " + std::to_string(nv) + " entries");
+  return given;
+}
+
+}  // namespace
+
+ResolvedScene resolveScene(const Scene& scene) {
+  ResolvedScene r;
+  r.scene = scene;
+  r.model = std::make_shared<const Model>(loadModel(scene.model_path, scene.build));
+  const Model& m = *r.model;
+  r.q0 = scene.q0.size() ? scene.q0 : neutralConfiguration(m);
+  r.v0 = scene.v0.size() ? scene.v0 : VectorX::Zero(m.nv);
+  if (r.q0.size() != m.nq)
+    throw SceneError(scene.source + ": initial.q has " + std::to_string(r.q0.size()) + " entries, the model needs " +
+                     std::to_string(m.nq));
+  if (r.v0.size() != m.nv)
+    throw SceneError(scene.source + ": initial.v has " + std::to_string(r.v0.size()) + " entries, the model needs " +
+                     std::to_string(m.nv));
+  normalizeConfiguration(m, r.q0);
+  r.kp = perJoint(scene, scene.kp, scene.kp_scalar, "kp", m.nv);
+  r.kd = perJoint(scene, scene.kd, scene.kd_scalar, "kd", m.nv);
+  if (scene.pull.enabled) {
+    const std::string link = scene.pull.link.empty() ? m.frames.back().name : scene.pull.link;
+    r.pull_frame = m.frameIndex(link);
+    if (r.pull_frame < 0) throw SceneError(scene.source + ": interaction.pull.link: unknown link '" + link + "'");
+  }
+  if (m.floating_base && scene.trajectory.kind != TrajectorySpec::Kind::None)
+    throw SceneError(scene.source + ": trajectory: a floating-base robot has no joint-space trajectory to follow");
+  return r;
+}
+
+}  // namespace igms

@@ -1,0 +1,97 @@
+#include "core/simulation/coupled_dynamics.h"
+
+#include <limits>
+
+#include "core/dynamics/forward_dynamics.h"
+#include "core/dynamics/joint_damping.h"
+#include "core/geometry/deepest_contact.h"
+#include "core/interaction/pull.h"
+#include "core/interaction/push.h"
+#include "core/kinematics/forward_kinematics.h"
+#include "core/kinematics/jacobian.h"
+
+namespace igms {
+
+CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s)
+    : model_(m), scene_(s), data_(m), tau_total_(VectorX::Zero(m.nv)), fext_(static_cast<size_t>(m.nb)),
+      KJ_(3, m.nv), J_(6, m.nv) {}
+
+CoupledEvaluation CoupledDynamics::makeEvaluation() const {
+  return {VectorX::Zero(model_.nv), VectorX::Zero(model_.nv), CouplingForce{}};
+}
+
+// The user's force at the state in data_ (body kinematics done): push, the
+// deepest contact of the tip with a link (eq. 3); pull, the spring-damper to
+// the attachment point (eq. 4).
+void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce& out) {
+  out = CouplingForce{};
+  if (c.mode == InteractionMode::Push) {
+    const LinkContact touch = deepestContact(
+        model_, [&](int f) { return framePose(model_, data_, f); }, c.tip, c.tip_radius, c.contact_frame);
+    if (touch.frame < 0) return;
+    const PushForce p = pushForce(touch.contact, c.push_k_p, scene_.push.max_force);
+    out.coupled = true;
+    out.frame = touch.frame;
+    out.point_local = framePose(model_, data_, touch.frame).inverse().act(p.point);
+    out.point = p.point;
+    out.on_robot = p.on_link;
+    out.clamped = p.clamped;
+    if (!p.clamped) out.K = c.push_k_p * touch.contact.normal * touch.contact.normal.transpose();
+  } else if (c.mode == InteractionMode::Pull && c.attach_frame >= 0) {
+    const Vector3 x = framePose(model_, data_, c.attach_frame).act(c.attach_point);
+    pointJacobian(model_, data_, c.attach_frame, c.attach_point, J_);
+    const Vector3 xd = J_.topRows<3>() * v;
+    const PullForce p = pullForce(c.pull_k, c.pull_b, scene_.pull.max_stretch, scene_.pull.max_force, c.tip,
+                                  c.tip_velocity, x, xd);
+    out.coupled = true;
+    out.frame = c.attach_frame;
+    out.point_local = c.attach_point;
+    out.point = x;
+    out.on_robot = p.on_robot;
+    out.clamped = p.clamped;
+    if (!p.stretch_capped && !p.clamped) out.K = c.pull_k * Matrix3::Identity();
+    if (!p.clamped) out.B = c.pull_b * Matrix3::Identity();
+  }
+}
+
+void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out) {
+  bodyKinematics(model_, data_, q);
+  clearExternalForces(fext_);
+  couple(in.coupling, v, out.coupling);
+  const CouplingForce& u = out.coupling;
+  if (u.coupled) addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot}, fext_);
+  tau_total_ = in.tau;
+  if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
+  if (!forwardDynamics(model_, data_, q, v, tau_total_, u.coupled ? &fext_ : nullptr)) {
+    out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());  // caught by the divergence guard
+    return;
+  }
+  out.F = tau_total_ - data_.bias;  // = H qdd
+  out.qdd = data_.qdd;
+  if (in.hold_rate > 0.0) {
+    // -c H v: H^-1 of it is exactly -c v.
+    out.F.noalias() -= in.hold_rate * (data_.H * v);
+    out.qdd -= in.hold_rate * v;
+  }
+}
+
+void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h,
+                                   MatrixX& A, VectorX& rhs) {
+  A = data_.H;
+  rhs = h * at.F;
+  if (scene_.joint_damping) A.diagonal() += h * jointDamping(model_);
+  if (in.hold_rate > 0.0) A += (h * in.hold_rate) * data_.H;
+  const CouplingForce& u = at.coupling;
+  if (!u.coupled) return;
+  pointJacobian(model_, data_, u.frame, u.point_local, J_);
+  // A += J^T (h B + h^2 K) J, rhs -= h^2 J^T K J v, written out: no temporaries.
+  const Matrix3 M = h * u.B + h * h * u.K;
+  KJ_.noalias() = M * J_.topRows<3>();
+  const Vector3 KJv = (h * h) * (u.K * (J_.topRows<3>() * v));
+  for (int c = 0; c < model_.nv; ++c) {
+    rhs[c] -= J_.col(c).head<3>().dot(KJv);
+    for (int r = 0; r < model_.nv; ++r) A(r, c) += J_.col(r).head<3>().dot(KJ_.col(c));
+  }
+}
+
+}  // namespace igms

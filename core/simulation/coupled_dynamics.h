@@ -1,0 +1,96 @@
+// The robot coupled to the user, as the integrators see it: f(q, v) = qdd
+// under the controller torque held over the step, joint damping, the hold
+// damping, and the user's push (eq. 3, U_E = J^T c) or pull (eq. 4,
+// tau = J^T F) computed against the state being evaluated.
+//
+// Everything a step holds constant is an argument (CoupledInputs), and
+// every evaluation returns its results (CoupledEvaluation: acceleration,
+// H qdd, the user's force and its linearisation). Nothing is left behind in
+// the object for a caller to read later.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/dynamics/external_force.h"
+#include "core/scene/scene.h"
+
+namespace igms {
+
+enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
+
+// The user's coupling over one step: the device state and the gains.
+struct Coupling {
+  InteractionMode mode = InteractionMode::None;
+  Vector3 tip = Vector3::Zero(), tip_velocity = Vector3::Zero();
+  double tip_radius = 0.01;
+  int contact_frame = -1;  // push: only this link (-1: any link with collision shapes)
+  int attach_frame = -1;   // pull: the attachment link
+  Vector3 attach_point = Vector3::Zero();  // pull: in the attachment link's frame
+  double push_k_p = 0.0, pull_k = 0.0, pull_b = 0.0;
+};
+
+struct CoupledInputs {
+  const VectorX& tau;       // controller torque, held over the step
+  const Coupling& coupling;
+  double hold_rate;         // 1/s: -hold_rate H v while the user interacts (0: none)
+};
+
+// The user's force at one evaluated state, and its linearisation.
+struct CouplingForce {
+  bool coupled = false;
+  int frame = -1;
+  Vector3 point_local = Vector3::Zero();  // where it acts, link frame
+  Vector3 point = Vector3::Zero();        // where it acts, world
+  Vector3 on_robot = Vector3::Zero();     // N, world
+  bool clamped = false;                   // |F| limited to the scene's maximum
+  Matrix3 K = Matrix3::Zero(), B = Matrix3::Zero();  // -dF/dx, -dF/dxdot at the point (zero when capped)
+};
+
+struct CoupledEvaluation {
+  VectorX qdd;  // NaN when H was singular (the divergence guard catches it)
+  VectorX F;    // H qdd
+  CouplingForce coupling;
+};
+
+class CoupledDynamics {
+ public:
+  CoupledDynamics(const Model& model, const Scene& scene);
+
+  CoupledEvaluation makeEvaluation() const;
+  void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out);
+  // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
+  void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, MatrixX& A,
+                    VectorX& rhs);
+
+  // The evaluator the integrators take (integrators.h): these dynamics with
+  // one step's inputs bound.
+  class Bound {
+   public:
+    using Evaluation = CoupledEvaluation;
+    Bound(CoupledDynamics& d, const CoupledInputs& in) : d_(d), in_(in) {}
+    Evaluation makeEvaluation() const { return d_.makeEvaluation(); }
+    void evaluate(const VectorX& q, const VectorX& v, Evaluation& out) { d_.evaluate(in_, q, v, out); }
+    void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) {
+      d_.linearSystem(in_, at, v, h, A, rhs);
+    }
+
+   private:
+    CoupledDynamics& d_;
+    const CoupledInputs& in_;
+  };
+  Bound bind(const CoupledInputs& in) { return Bound(*this, in); }
+
+ private:
+  void couple(const Coupling& c, const VectorX& v, CouplingForce& out);
+
+  const Model& model_;
+  const Scene& scene_;
+  Data data_;
+  VectorX tau_total_;
+  std::vector<Force> fext_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> KJ_;
+  Matrix6X J_;
+};
+
+}  // namespace igms
