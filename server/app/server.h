@@ -1,10 +1,16 @@
 // igms-server: runs a scene at its rate, takes haptic inputs and commands from
 // LCM, publishes the robot state every step and a status at about 10 Hz.
 //
-// Threads: the simulation thread (this one: steps on absolute deadlines, or
-// one step per input in lockstep), the bus thread (receives, validates and
-// hands the newest input over lock-free), and the publishing thread (encodes
-// and publishes states from a ring of snapshots, checks collisions, status).
+// Composed of named parts (docs/architecture.md has the picture):
+//   BusReceiver (transport/)   inputs validated and handed over lock-free; commands queued
+//   Stepper (loop/)            the newest input, one Simulation step, its snapshot into the ring
+//   applyCommand (loop/)       commands between steps, validated, rejections counted
+//   StatePublisher (app/)      snapshots -> robot_state_t, the FCL obstacle check, fault injection
+//   StatusReporter (app/)      server_status_t and session_info_t
+//   PublishingThread (app/)    drains the ring into the two above
+// Threads: the loop (this one: steps on absolute deadlines, or one step per
+// input in lockstep, where it also receives and publishes), the bus thread
+// (realtime only) and the publishing thread (realtime only).
 #pragma once
 
 #include <atomic>

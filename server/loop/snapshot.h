@@ -1,9 +1,15 @@
 // What one step hands to the publishing thread: a preallocated slot in a
-// single-producer single-consumer ring. The step copies into it; nothing allocates.
+// single-producer single-consumer ring. The step copies into it; nothing
+// allocates. The consumer may sleep until a slot is written (a futex post
+// per write, no lock).
 #pragma once
+
+#include <semaphore.h>
 
 #include <atomic>
 #include <vector>
+
+#include "core/realtime/deadline.h"
 
 #include "core/simulation/simulation.h"
 
@@ -30,14 +36,21 @@ class SnapshotRing {
  public:
   SnapshotRing(const Model& m, size_t capacity) : slots_(capacity) {
     for (auto& s : slots_) s.size(m);
+    sem_init(&written_, 0, 0);
   }
+  ~SnapshotRing() { sem_destroy(&written_); }
+  SnapshotRing(const SnapshotRing&) = delete;
+  SnapshotRing& operator=(const SnapshotRing&) = delete;
   // Producer: the slot to fill, or null when the ring is full (the caller counts a drop).
   Snapshot* beginWrite() {
     const size_t h = head_.load(std::memory_order_relaxed);
     if (h - tail_.load(std::memory_order_acquire) >= slots_.size()) return nullptr;
     return &slots_[h % slots_.size()];
   }
-  void endWrite() { head_.store(head_.load(std::memory_order_relaxed) + 1, std::memory_order_release); }
+  void endWrite() {
+    head_.store(head_.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+    sem_post(&written_);
+  }
   // Consumer.
   const Snapshot* beginRead() {
     const size_t t = tail_.load(std::memory_order_relaxed);
@@ -45,10 +58,17 @@ class SnapshotRing {
     return &slots_[t % slots_.size()];
   }
   void endRead() { tail_.store(tail_.load(std::memory_order_relaxed) + 1, std::memory_order_release); }
+  // Sleeps until a write (or a wake()) or for at most `seconds`.
+  void waitForWrite(double seconds) {
+    const timespec until = realtimeIn(seconds);
+    sem_timedwait(&written_, &until);
+  }
+  void wake() { sem_post(&written_); }
 
  private:
   std::vector<Snapshot> slots_;
   std::atomic<size_t> head_{0}, tail_{0};
+  sem_t written_;
 };
 
 // Fills a snapshot from the simulation (no allocation: sizes match).

@@ -208,6 +208,7 @@ TEST(Server, BadMessagesAreRejectedByReasonAndTheServerKeepsRunning) {
   EXPECT_EQ(st.rejected_by_reason[server_status_t::REJECT_UNDECODABLE], 1);
   EXPECT_EQ(st.inputs_rejected, 6);
   EXPECT_EQ(st.state, "running");
+  EXPECT_EQ(st.commands_received, 0);
   EXPECT_TRUE(std::isfinite(listener.last.q[0]));
 }
 
@@ -216,6 +217,30 @@ TEST(Server, BadMessagesAreRejectedByReasonAndTheServerKeepsRunning) {
 
 namespace igms::test {
 namespace {
+
+TEST(Server, UnknownAndUndecodableCommandsAreCountedAndChangeNothing) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  command_t unknown{};
+  unknown.kind = 77;
+  bus.publish(channels::kCommand, &unknown);
+  const uint8_t garbage[5] = {9, 8, 7, 6, 5};
+  bus.publish(channels::kCommand, garbage, sizeof garbage);
+  command_t gains{};
+  gains.kind = command_t::SET_GAINS;
+  gains.nvalues = 3;
+  gains.values = {-1.0, 800.0, 10.0};  // a negative stiffness
+  bus.publish(channels::kCommand, &gains);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  std::lock_guard<std::mutex> l(listener.mutex);
+  EXPECT_EQ(listener.status.commands_received, 3);
+  EXPECT_EQ(listener.status.commands_rejected, 3);
+  EXPECT_EQ(listener.status.state, "running");
+  EXPECT_NE(listener.status.message.find("SET_GAINS"), std::string::npos) << listener.status.message;
+  EXPECT_TRUE(std::isfinite(listener.last.q[0]));
+}
 
 TEST(Server, LockstepTakesOneStepPerInputAndRecordsItsSeq) {
   Listener listener;
@@ -272,6 +297,22 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
   {
     std::lock_guard<std::mutex> l(listener.mutex);
     EXPECT_EQ(listener.last.seq, paused_seq + 1) << "one step";
+  }
+  // A SET_TRAJECTORY that fails (one point) is rejected with a reason; the server stays paused.
+  command_t bad{};
+  bad.kind = command_t::SET_TRAJECTORY;
+  bad.trajectory.npoints = 1;
+  bad.trajectory.nq = 6;
+  bad.trajectory.joint_names.assign(6, "q");
+  bad.trajectory.t = {0.0};
+  bad.trajectory.q = {std::vector<double>(6, 0.0)};
+  bus.publish(channels::kCommand, &bad);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_EQ(listener.status.state, "paused") << "a rejected command leaves the state alone";
+    EXPECT_NE(listener.status.message.find("SET_TRAJECTORY"), std::string::npos) << listener.status.message;
+    EXPECT_EQ(listener.status.commands_rejected, 1);
   }
   const std::string path = ::testing::TempDir() + "/server_edited.yaml";
   send(command_t::SAVE_TRAJECTORY, path);

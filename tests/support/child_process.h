@@ -1,8 +1,10 @@
 // Starts a program as a child process and stops it when the owner goes away
-// (SIGTERM, then SIGKILL after a grace period): tests stop what they start.
+// (SIGTERM, then SIGKILL after a grace period): tests stop what they start,
+// and a test that crashes takes its children with it (PR_SET_PDEATHSIG).
 #pragma once
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +20,7 @@ class ChildProcess {
   explicit ChildProcess(const std::vector<std::string>& argv) {
     pid_ = fork();
     if (pid_ == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
       std::vector<char*> args;
       for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
       args.push_back(nullptr);

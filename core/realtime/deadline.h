@@ -1,0 +1,54 @@
+// Absolute deadlines on CLOCK_MONOTONIC for periodic loops (the server's
+// realtime clock, the client's servo loop), and a CLOCK_REALTIME time a
+// timed semaphore wait can take. The one place igms does timespec arithmetic.
+#pragma once
+
+#include <time.h>
+
+#include <cstdint>
+
+namespace igms {
+
+inline timespec addNanoseconds(timespec t, int64_t ns) {
+  t.tv_sec += static_cast<time_t>(ns / 1000000000LL);
+  t.tv_nsec += static_cast<long>(ns % 1000000000LL);
+  if (t.tv_nsec >= 1000000000L) {
+    t.tv_nsec -= 1000000000L;
+    ++t.tv_sec;
+  }
+  return t;
+}
+
+inline bool isBefore(const timespec& a, const timespec& b) {
+  return a.tv_sec < b.tv_sec || (a.tv_sec == b.tv_sec && a.tv_nsec < b.tv_nsec);
+}
+
+// `seconds` from now on CLOCK_REALTIME (what sem_timedwait wants).
+inline timespec realtimeIn(double seconds) {
+  timespec now;
+  clock_gettime(CLOCK_REALTIME, &now);
+  return addNanoseconds(now, static_cast<int64_t>(seconds * 1e9));
+}
+
+// A train of deadlines one period apart, starting now. A late cycle still
+// aims the next one at its own deadline (no drift).
+class PeriodicDeadline {
+ public:
+  explicit PeriodicDeadline(double period_s) : period_ns_(static_cast<int64_t>(period_s * 1e9)) {
+    clock_gettime(CLOCK_MONOTONIC, &next_);
+  }
+  // Sleeps until the current deadline (at once when it has passed).
+  void sleep() const { clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next_, nullptr); }
+  void advance() { next_ = addNanoseconds(next_, period_ns_); }
+  bool passed() const {
+    timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return isBefore(next_, now);
+  }
+
+ private:
+  int64_t period_ns_;
+  timespec next_;
+};
+
+}  // namespace igms

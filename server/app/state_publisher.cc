@@ -1,0 +1,96 @@
+#include "server/app/state_publisher.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "channels.h"
+#include "core/realtime/clock.h"
+
+namespace igms {
+
+StatePublisher::StatePublisher(lcm::LCM& bus, const Model& m, const std::vector<Obstacle>& obstacles,
+                               FaultInjection faults, bool quiet)
+    : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), fault_epoch_(monotonicSeconds()) {
+  msg_.nq = m.nq;
+  msg_.nv = m.nv;
+  msg_.q.resize(static_cast<size_t>(m.nq));
+  msg_.v.resize(static_cast<size_t>(m.nv));
+  msg_.qdd.resize(static_cast<size_t>(m.nv));
+  msg_.tau.resize(static_cast<size_t>(m.nv));
+  msg_.nlinks = static_cast<int32_t>(m.frames.size());
+  msg_.link_poses.assign(m.frames.size(), std::vector<double>(7, 0.0));
+  buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
+  stats_.step_times_us.reserve(4096);
+}
+
+void StatePublisher::fill(const Snapshot& s) {
+  msg_.utime = s.utime;
+  msg_.seq = s.seq;
+  msg_.sim_time = s.sim_time;
+  msg_.input_seq = s.outcome.input_seq;
+  msg_.input_client = s.outcome.input_client;
+  std::copy(s.q.begin(), s.q.end(), msg_.q.begin());
+  std::copy(s.v.begin(), s.v.end(), msg_.v.begin());
+  std::copy(s.qdd.begin(), s.qdd.end(), msg_.qdd.begin());
+  std::copy(s.tau.begin(), s.tau.end(), msg_.tau.begin());
+  msg_.mode = static_cast<int8_t>(s.outcome.mode);
+  for (int k = 0; k < 3; ++k) {
+    msg_.interaction_force[k] = s.outcome.force_on_robot[k];
+    msg_.interaction_point[k] = s.outcome.force_point[k];
+  }
+  for (size_t f = 0; f < s.link_poses.size(); ++f) {
+    const SE3& X = s.link_poses[f];
+    Eigen::Quaterniond quat(X.R);
+    if (quat.w() < 0) quat.coeffs() *= -1.0;
+    auto& row = msg_.link_poses[f];
+    row[0] = X.p.x(); row[1] = X.p.y(); row[2] = X.p.z();
+    row[3] = quat.w(); row[4] = quat.x(); row[5] = quat.y(); row[6] = quat.z();
+  }
+  msg_.step_us = s.step_us;
+}
+
+void StatePublisher::checkCollisions(const Snapshot& s) {
+  if (world_.empty()) {
+    msg_.min_obstacle_distance = 1e9;
+    msg_.in_collision = false;
+    return;
+  }
+  const CollisionReport c = world_.check(s.link_poses);
+  msg_.min_obstacle_distance = c.min_distance;
+  msg_.in_collision = c.in_collision;
+  stats_.min_distance = std::min(stats_.min_distance, c.min_distance);
+  if (!c.in_collision) return;
+  ++stats_.collisions;
+  if (stats_.first_collision >= 0) return;
+  stats_.first_collision = s.sim_time;
+  if (!quiet_)
+    std::fprintf(stderr, "igms-server: collision at t=%.3f s: %s hits %s\n", s.sim_time, c.closest_link.c_str(),
+                 c.closest_obstacle.c_str());
+}
+
+void StatePublisher::publish(const Snapshot& s) {
+  fill(s);
+  checkCollisions(s);
+  const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n > 0 && faults_.any()) bus_.publish(channels::kRobotStateTruth, buffer_.data(), static_cast<unsigned>(n));
+  if (n > 0 && !faultDrops()) {
+    if (faults_.delay_us > 0)
+      std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(faults_.delay_us)));
+    bus_.publish(channels::kRobotState, buffer_.data(), static_cast<unsigned>(n));
+  }
+  stats_.last_sim_time = s.sim_time;
+  stats_.step_times_us.push_back(s.step_us);
+}
+
+bool StatePublisher::faultDrops() {
+  if (faults_.drop > 0 && uniform_(rng_) < faults_.drop) return true;
+  if (faults_.burst_ms > 0) {
+    const double phase = std::fmod(monotonicSeconds() - fault_epoch_, 1.0);
+    if (phase < faults_.burst_ms * 1e-3) return true;
+  }
+  return false;
+}
+
+}  // namespace igms

@@ -1,0 +1,59 @@
+// Snapshots of the step -> robot_state_t on IGMS_ROBOT_STATE, with the FCL
+// obstacle check of each published pose. Encodes into a preallocated buffer
+// and publishes raw bytes (LCM's typed publish allocates per call). Optional
+// fault injection (drop, bursts, delay) for tests of the client's fallbacks;
+// with faults on, every state also goes to IGMS_ROBOT_STATE_TRUTH so a log
+// re-simulates. Runs on the publishing thread only.
+#pragma once
+
+#include <lcm/lcm-cpp.hpp>
+#include <random>
+#include <vector>
+
+#include "igms/robot_state_t.hpp"
+#include "server/collision/collision_world.h"
+#include "server/loop/snapshot.h"
+
+namespace igms {
+
+struct FaultInjection {
+  double drop = 0.0;      // fraction of states not published
+  double burst_ms = 0.0;  // every second, no states for this long
+  double delay_us = 0.0;  // every state published this much later
+  bool any() const { return drop > 0 || burst_ms > 0 || delay_us > 0; }
+};
+
+// What the status reports about the published states.
+struct PublishStats {
+  double last_sim_time = 0.0;
+  int64_t collisions = 0;              // published states in collision
+  double first_collision = -1.0;       // s
+  double min_distance = 1e9;           // m, over the run
+  std::vector<double> step_times_us;   // since the status last drained them
+};
+
+class StatePublisher {
+ public:
+  StatePublisher(lcm::LCM& bus, const Model& model, const std::vector<Obstacle>& obstacles, FaultInjection faults,
+                 bool quiet);
+  void publish(const Snapshot& s);
+  PublishStats& stats() { return stats_; }
+
+ private:
+  void fill(const Snapshot& s);
+  void checkCollisions(const Snapshot& s);
+  bool faultDrops();
+
+  lcm::LCM& bus_;
+  CollisionWorld world_;
+  FaultInjection faults_;
+  bool quiet_;
+  robot_state_t msg_;
+  std::vector<uint8_t> buffer_;
+  PublishStats stats_;
+  std::mt19937 rng_{12345};
+  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
+  double fault_epoch_;
+};
+
+}  // namespace igms

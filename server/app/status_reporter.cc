@@ -1,0 +1,105 @@
+#include "server/app/status_reporter.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "channels.h"
+#include "core/model_io/model_loader.h"
+#include "core/realtime/clock.h"
+#include "igms/server_status_t.hpp"
+#include "igms_build_info.h"
+
+namespace igms {
+
+StatusReporter::StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
+                               LoopStatus& loop, bool quiet)
+    : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), scene_(sim.scene().source) {
+  info_.build_version = IGMS_BUILD_VERSION;
+  info_.scene_path = sim.scene().source;
+  info_.scene_text = sim.scene().text;
+  info_.model_path = sim.scene().model_path;
+  try {
+    info_.model_hash = textHash(readModelFile(sim.scene().model_path));
+  } catch (const std::exception&) {
+    info_.model_hash = "unreadable";
+  }
+  info_.clock = clock;
+  info_.dt = sim.scene().dt;
+  for (const auto& f : sim.model().frames) link_names_.push_back(f.name);
+  components_ = sim.activeComponents();
+  window_start_ = monotonicSeconds();
+  next_status_ = window_start_ + 0.1;
+}
+
+void StatusReporter::requestSessionInfo(int64_t token) {
+  token_ = token;
+  info_due_ = true;
+}
+
+void StatusReporter::pumpSessionInfo() {
+  if (!info_due_.exchange(false)) return;
+  info_.utime = wallMicros();
+  info_.session_token = token_;
+  bus_.publish(channels::kSessionInfo, &info_);
+}
+
+void StatusReporter::pumpStatus(PublishStats& published) {
+  if (monotonicSeconds() >= next_status_) {
+    publishStatus(published);
+    next_status_ += 0.1;
+  }
+}
+
+void StatusReporter::publishStatus(PublishStats& p) {
+  server_status_t s;
+  s.utime = wallMicros();
+  s.seq = seq_++;
+  s.session_token = token_;
+  const BusCounters bus = receiver_.counters();
+  s.inputs_received = bus.inputs_received;
+  s.inputs_rejected = bus.inputs_rejected;
+  for (int k = 0; k < kRejectReasons; ++k) s.rejected_by_reason[k] = bus.rejected_by_reason[static_cast<size_t>(k)];
+  s.inputs_dropped = std::max<int64_t>(0, bus.inputs_accepted - loop_.consumed_inputs.load());
+  s.commands_received = bus.commands_received;
+  s.commands_rejected = bus.commands_refused + loop_.commands_rejected.load();
+  s.scene = scene_;
+  loop_.read(&s.state, &s.message);
+  s.sim_time = p.last_sim_time;
+  s.steps = loop_.steps.load();
+  const double now = monotonicSeconds();
+  const int64_t window_steps = static_cast<int64_t>(p.step_times_us.size());
+  s.rate_hz = now > window_start_ ? static_cast<double>(window_steps) / (now - window_start_) : 0.0;
+  std::vector<double>& t = p.step_times_us;
+  std::sort(t.begin(), t.end());
+  auto pct = [&](double q) { return t.empty() ? 0.0 : t[std::min(t.size() - 1, static_cast<size_t>(q * t.size()))]; };
+  s.step_us_p50 = pct(0.5);
+  s.step_us_p99 = pct(0.99);
+  s.step_us_max = t.empty() ? 0.0 : t.back();
+  s.overruns = loop_.overruns.load();
+  s.forces_clamped = loop_.forces_clamped.load();
+  s.collisions = p.collisions;
+  s.first_collision_time = p.first_collision;
+  s.min_obstacle_distance = p.min_distance;
+  s.ncomponents = static_cast<int32_t>(components_.size());
+  s.components = components_;
+  s.nlinks = static_cast<int32_t>(link_names_.size());
+  s.link_names = link_names_;
+  bus_.publish(channels::kServerStatus, &s);
+  if (seq_ % 10 == 1) requestSessionInfo(s.session_token);
+  window_start_ = now;
+  t.clear();
+  if (!quiet_) print(s, p);
+}
+
+void StatusReporter::print(const server_status_t& s, const PublishStats& p) const {
+  std::fprintf(stderr,
+               "igms-server: t=%.2f s  steps=%lld  rate=%.0f Hz  step p50/p99/max=%.1f/%.1f/%.1f us  overruns=%lld"
+               "  inputs=%lld rejected=%lld  commands=%lld rejected=%lld  collisions=%lld  min_dist=%.3f m  %s%s%s\n",
+               s.sim_time, static_cast<long long>(s.steps), s.rate_hz, s.step_us_p50, s.step_us_p99, s.step_us_max,
+               static_cast<long long>(s.overruns), static_cast<long long>(s.inputs_received),
+               static_cast<long long>(s.inputs_rejected), static_cast<long long>(s.commands_received),
+               static_cast<long long>(s.commands_rejected), static_cast<long long>(p.collisions), p.min_distance,
+               s.state.c_str(), s.message.empty() ? "" : ": ", s.message.c_str());
+}
+
+}  // namespace igms

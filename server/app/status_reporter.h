@@ -1,0 +1,51 @@
+// The server's status (IGMS_SERVER_STATUS, about 10 Hz, and one line on
+// stderr unless quiet) and the session info a replay needs
+// (IGMS_SESSION_INFO: at the start, after a reset, and every second).
+// Runs on the publishing thread; any thread may ask for the session info.
+#pragma once
+
+#include <atomic>
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+#include <vector>
+
+#include "core/simulation/simulation.h"
+#include "igms/server_status_t.hpp"
+#include "igms/session_info_t.hpp"
+#include "server/app/state_publisher.h"
+#include "server/loop/loop_status.h"
+#include "server/transport/bus_receiver.h"
+
+namespace igms {
+
+class StatusReporter {
+ public:
+  StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
+                 LoopStatus& loop, bool quiet);
+
+  // A new session token: the next pump sends the session info with it.
+  void requestSessionInfo(int64_t token);
+  // The session info, when asked for (before any state: a log starts with it).
+  void pumpSessionInfo();
+  // The status, every 100 ms.
+  void pumpStatus(PublishStats& published);
+  // The status now, whether due or not (the final one).
+  void publishStatus(PublishStats& published);
+
+ private:
+  void print(const server_status_t& s, const PublishStats& p) const;
+
+  lcm::LCM& bus_;
+  BusReceiver& receiver_;
+  LoopStatus& loop_;
+  bool quiet_;
+  session_info_t info_;
+  std::atomic<bool> info_due_{false};
+  std::atomic<int64_t> token_{0};
+  std::string scene_;
+  std::vector<std::string> link_names_, components_;
+  int64_t seq_ = 0;
+  double window_start_, next_status_;
+};
+
+}  // namespace igms

@@ -1,0 +1,72 @@
+#include "server/loop/command_handler.h"
+
+#include <cmath>
+
+namespace igms {
+
+namespace {
+
+CommandResult rejected(const std::string& why) { return {false, why}; }
+
+CommandResult setTrajectory(const command_t& c, Simulation& sim) {
+  const trajectory_t& tr = c.trajectory;
+  if (tr.t.size() != tr.q.size() || tr.t.size() < 2) return rejected("SET_TRAJECTORY: needs two or more points");
+  std::vector<double> t(tr.t.begin(), tr.t.end());
+  std::vector<VectorX> points;
+  for (const auto& row : tr.q) {
+    if (static_cast<int>(row.size()) != sim.model().nq)
+      return rejected("SET_TRAJECTORY: a point has " + std::to_string(row.size()) + " coordinates, the model " +
+                      std::to_string(sim.model().nq));
+    points.push_back(Eigen::Map<const VectorX>(row.data(), static_cast<int>(row.size())));
+    if (!points.back().allFinite()) return rejected("SET_TRAJECTORY: a point is not finite");
+  }
+  try {
+    sim.setNominalTrajectory(t, points);
+  } catch (const std::exception& e) {
+    return rejected(std::string("SET_TRAJECTORY: ") + e.what());
+  }
+  return {};
+}
+
+CommandResult setGains(const command_t& c, Simulation& sim) {
+  if (c.nvalues != 3 || c.values.size() != 3) return rejected("SET_GAINS: needs 3 values (push k_p, pull k, pull b)");
+  const double k_p = c.values[0], k = c.values[1], b = c.values[2];
+  if (!(std::isfinite(k_p) && std::isfinite(k) && std::isfinite(b) && k_p > 0 && k > 0 && b >= 0))
+    return rejected("SET_GAINS: k_p and k must be positive, b non-negative, all finite");
+  sim.setGains(k_p, k, b);
+  return {};
+}
+
+}  // namespace
+
+CommandResult applyCommand(const command_t& c, Simulation& sim, LoopControl& control) {
+  switch (c.kind) {
+    case command_t::START: control.paused = false; return {};
+    case command_t::PAUSE: control.paused = true; return {};
+    case command_t::STEP: ++control.steps_requested; return {};
+    case command_t::RESET:
+      sim.reset();
+      control.new_session = true;
+      return {};
+    case command_t::LOAD_SCENE:
+      if (c.text.empty()) return rejected("LOAD_SCENE: no scene file given");
+      control.scene_path = c.text;
+      control.reload = true;
+      control.running = false;
+      return {};
+    case command_t::SET_TRAJECTORY: return setTrajectory(c, sim);
+    case command_t::SET_GAINS: return setGains(c, sim);
+    case command_t::SAVE_TRAJECTORY:
+      if (c.text.empty()) return rejected("SAVE_TRAJECTORY: no file given");
+      try {
+        sim.saveEditedTrajectory(c.text);
+      } catch (const std::exception& e) {
+        return rejected(e.what());
+      }
+      return {};
+    case command_t::SHUTDOWN: control.running = false; return {};
+    default: return rejected("unknown command kind " + std::to_string(int{c.kind}));
+  }
+}
+
+}  // namespace igms

@@ -1,0 +1,89 @@
+// Commands applied between steps (server/loop/command_handler): validation,
+// and that a rejected command changes nothing.
+#include <gtest/gtest.h>
+
+#include "server/loop/command_handler.h"
+#include "tests/support/test_models.h"
+
+namespace igms::test {
+namespace {
+
+Simulation wallScene() { return Simulation(loadScene(sourceDir() + "/scenes/puma_wall.yaml")); }
+
+command_t command(int8_t kind) {
+  command_t c{};
+  c.kind = kind;
+  return c;
+}
+
+TEST(CommandHandler, PauseStartAndStepSetTheLoopControl) {
+  Simulation sim = wallScene();
+  LoopControl control;
+  EXPECT_TRUE(applyCommand(command(command_t::PAUSE), sim, control).accepted);
+  EXPECT_TRUE(control.paused);
+  EXPECT_TRUE(applyCommand(command(command_t::STEP), sim, control).accepted);
+  EXPECT_TRUE(applyCommand(command(command_t::STEP), sim, control).accepted);
+  EXPECT_EQ(control.steps_requested, 2);
+  EXPECT_TRUE(applyCommand(command(command_t::START), sim, control).accepted);
+  EXPECT_FALSE(control.paused);
+  EXPECT_TRUE(applyCommand(command(command_t::SHUTDOWN), sim, control).accepted);
+  EXPECT_FALSE(control.running);
+}
+
+TEST(CommandHandler, AFailedSetTrajectoryLeavesAPausedServerPausedAndTheTrajectoryAlone) {
+  Simulation sim = wallScene();
+  LoopControl control;
+  control.paused = true;
+  const VectorX goal = sim.goal();
+  command_t c = command(command_t::SET_TRAJECTORY);
+  c.trajectory.t = {0.0, 1.0};
+  c.trajectory.q = {std::vector<double>(6, 0.0), std::vector<double>(5, 0.0)};  // a point of the wrong size
+  const CommandResult r = applyCommand(c, sim, control);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NE(r.message.find("coordinates"), std::string::npos) << r.message;
+  EXPECT_TRUE(control.paused);
+  EXPECT_EQ(sim.goal(), goal);
+  c.trajectory.q[1] = std::vector<double>(6, 0.1);
+  EXPECT_TRUE(applyCommand(c, sim, control).accepted);
+  EXPECT_TRUE(control.paused);
+  EXPECT_TRUE(sim.goal().isApprox(VectorX::Constant(6, 0.1), 1e-12));
+}
+
+TEST(CommandHandler, UnknownKindsAndInvalidArgumentsAreRejectedWithAReason) {
+  Simulation sim = wallScene();
+  LoopControl control;
+  EXPECT_FALSE(applyCommand(command(77), sim, control).accepted);
+  command_t gains = command(command_t::SET_GAINS);
+  gains.nvalues = 3;
+  gains.values = {2000.0, NAN, 10.0};
+  EXPECT_FALSE(applyCommand(gains, sim, control).accepted);
+  gains.nvalues = 2;
+  gains.values = {2000.0, 800.0};
+  EXPECT_FALSE(applyCommand(gains, sim, control).accepted);
+  EXPECT_FALSE(applyCommand(command(command_t::LOAD_SCENE), sim, control).accepted) << "no file";
+  EXPECT_FALSE(control.reload);
+  EXPECT_TRUE(control.running);
+  command_t save = command(command_t::SAVE_TRAJECTORY);
+  save.text = "/nonexistent-dir/x.yaml";
+  const CommandResult r = applyCommand(save, sim, control);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NE(r.message.find("/nonexistent-dir/x.yaml"), std::string::npos) << r.message;
+}
+
+TEST(CommandHandler, ResetAsksForANewSessionAndLoadSceneEndsThisOne) {
+  Simulation sim = wallScene();
+  LoopControl control;
+  for (int k = 0; k < 100; ++k) sim.step(nullptr);
+  EXPECT_TRUE(applyCommand(command(command_t::RESET), sim, control).accepted);
+  EXPECT_TRUE(control.new_session);
+  EXPECT_EQ(sim.steps(), 0);
+  command_t load = command(command_t::LOAD_SCENE);
+  load.text = "scenes/puma_swing.yaml";
+  EXPECT_TRUE(applyCommand(load, sim, control).accepted);
+  EXPECT_TRUE(control.reload);
+  EXPECT_FALSE(control.running);
+  EXPECT_EQ(control.scene_path, "scenes/puma_swing.yaml");
+}
+
+}  // namespace
+}  // namespace igms::test
