@@ -1,7 +1,10 @@
 #include "haptic_client/device/replay_device.h"
 
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <stdexcept>
+
+#include "haptic_client/device/device_registry.h"
 
 #include "igms/haptic_input_t.hpp"
 
@@ -44,4 +47,13 @@ DeviceReading ReplayDevice::read(double t) {
   return r;
 }
 
+}  // namespace igms
+
+namespace igms {
+IGMS_REGISTER_DEVICE((DeviceEntry{
+    "replay", "replay:LOG      the tip motion and buttons of a recorded session (an LCM log)",
+    [](const std::string& log, const DeviceContext& c) -> std::unique_ptr<HapticDevice> {
+      if (log.empty()) throw std::runtime_error("--device replay:LOG needs the log's file");
+      return std::make_unique<ReplayDevice>(log, c.map);
+    }}));
 }  // namespace igms

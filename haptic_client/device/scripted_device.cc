@@ -1,5 +1,7 @@
 #include "haptic_client/device/scripted_device.h"
 
+#include "haptic_client/device/device_registry.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -109,4 +111,13 @@ DeviceReading ScriptedDevice::read(double t) {
   return r;
 }
 
+}  // namespace igms
+
+namespace igms {
+IGMS_REGISTER_DEVICE((DeviceEntry{
+    "scripted", "scripted:FILE   timed tip targets and buttons from a YAML script (scenes/push_demo.yaml)",
+    [](const std::string& file, const DeviceContext& c) -> std::unique_ptr<HapticDevice> {
+      if (file.empty()) throw std::runtime_error("--device scripted:FILE needs the script's file");
+      return std::make_unique<ScriptedDevice>(file, c.map, c.link_pose);
+    }}));
 }  // namespace igms

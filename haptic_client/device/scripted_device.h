@@ -25,15 +25,9 @@
 #include <vector>
 
 #include "haptic_client/device/haptic_device.h"
+#include "haptic_client/device/workspace_map.h"
 
 namespace igms {
-
-struct WorkspaceMap {
-  double scale = 1.0;                  // scene = offset + scale * device
-  Vector3 offset = Vector3::Zero();
-  Vector3 toScene(const Vector3& d) const { return offset + scale * d; }
-  Vector3 toDevice(const Vector3& s) const { return (s - offset) / scale; }
-};
 
 class ScriptedDevice : public HapticDevice {
  public:

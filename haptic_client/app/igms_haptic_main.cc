@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "haptic_client/servo/haptic_client.h"
+#include "haptic_client/app/haptic_client.h"
 
 namespace {
 std::atomic<bool> g_stop{false};

@@ -1,0 +1,103 @@
+#include "haptic_client/app/haptic_client.h"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include "core/realtime/clock.h"
+#include "core/scene/resolved_scene.h"
+#include "haptic_client/device/device_registry.h"
+#include "haptic_client/servo/client_bus.h"
+#include "haptic_client/servo/client_status_thread.h"
+#include "haptic_client/servo/servo_loop.h"
+
+namespace igms {
+namespace {
+
+// Waits for the server's status (its session token and link order) and checks it runs this scene's model.
+int connect(ClientBus& bus, const Model& model, const ClientOptions& o, const std::atomic<bool>& stop) {
+  const double t0 = monotonicSeconds();
+  while (!bus.haveServer() && !stop) {
+    if (monotonicSeconds() - t0 > o.connect_timeout) {
+      std::fprintf(stderr, "igms-haptic: no server status on the bus within %.0f s\n", o.connect_timeout);
+      return 3;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const size_t server_links = bus.serverLinkNames().size();
+  if (server_links != model.frames.size()) {
+    std::fprintf(stderr, "igms-haptic: the server's model has %zu links, the scene's %zu: not the same scene?\n",
+                 server_links, model.frames.size());
+    return 2;
+  }
+  return 0;
+}
+
+void printSummary(const ServoStats& s, double wall) {
+  const auto cycles = static_cast<long long>(s.cycles.load());
+  std::fprintf(stderr,
+               "igms-haptic: %lld cycles in %.2f s (%.1f Hz), %lld deadline misses (max %lld in a row), %lld "
+               "fallbacks, %lld late replies, max force step %.3f N\n"
+               "igms-haptic: round trip p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us (%lld replies); "
+               "cycle jitter p50 %.0f us, p99 %.0f us, max %.0f us\n",
+               cycles, wall, static_cast<double>(cycles) / wall, static_cast<long long>(s.misses.load()),
+               static_cast<long long>(s.max_consecutive.load()), static_cast<long long>(s.fallbacks.load()),
+               static_cast<long long>(s.late.load()), s.max_force_step.load(), s.rtt_all.percentile(0.5),
+               s.rtt_all.percentile(0.99), s.rtt_all.percentile(0.999), s.rtt_all.max(),
+               static_cast<long long>(s.rtt_all.count()), s.jitter_all.percentile(0.5), s.jitter_all.percentile(0.99),
+               s.jitter_all.max());
+}
+
+}  // namespace
+
+int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
+  ResolvedScene resolved;
+  FallbackPolicy policy;
+  try {
+    resolved = resolveScene(loadScene(o.scene_path));
+    if (!parseFallback(o.fallback, &policy)) throw std::runtime_error("--fallback is hold, extrapolate or interpolate");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-haptic: %s\n", e.what());
+    return 2;
+  }
+  const Model& model = *resolved.model;
+  const int nlinks = static_cast<int>(model.frames.size());
+  ClientBus bus(o.lcm_url, nlinks, model.nq);
+  if (!bus.good()) {
+    std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
+    return 2;
+  }
+  // The estimate, shared by the device (link lookups) and the loop.
+  StateEstimate estimate(nlinks, model.nq, policy);
+  std::vector<SE3> links(static_cast<size_t>(nlinks), SE3::Identity());
+  std::unique_ptr<HapticDevice> device;
+  try {
+    DeviceContext context{{resolved.scene.workspace_scale, resolved.scene.workspace_offset},
+                          [&](const std::string& name, SE3* X) {
+                            const int f = model.frameIndex(name);
+                            if (f < 0 || !estimate.any()) return false;
+                            *X = links[static_cast<size_t>(f)];
+                            return true;
+                          }};
+    device = DeviceRegistry::make(o.device, context);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-haptic: %s\n", e.what());
+    return 2;
+  }
+  static ServoStats stats;  // large (histograms): static storage, one client per process
+  ClientStatusThread status(bus, stats, ClientIdentity{o.client_id, device->name(), fallbackName(policy), o.lost_ms});
+  if (const int code = connect(bus, model, o, stop)) return code;
+  if (!o.quiet)
+    std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
+                 o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
+  ServoLoop loop(resolved, *device, bus, estimate, links, stats,
+                 ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id});
+  const double wall = loop.run(stop);
+  stats.finished = true;
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
+  if (!o.quiet) printSummary(stats, wall);
+  return 0;
+}
+
+}  // namespace igms

@@ -1,0 +1,30 @@
+// igms-haptic: the haptic client. Composed of named parts:
+//   DeviceRegistry (device/)      --device NAME[:ARGS] -> a HapticDevice
+//   ClientBus (servo/)            states and the server's status in, inputs out
+//   ClientStatusThread (servo/)   the bus thread: receives, sends the client status at 10 Hz
+//   ServoLoop (servo/)            the 1 kHz loop: device, input, state or fallback, force
+#pragma once
+
+#include <atomic>
+#include <string>
+
+namespace igms {
+
+struct ClientOptions {
+  std::string scene_path;
+  std::string device;          // NAME[:ARGS], e.g. "scripted:FILE"
+  std::string lcm_url;
+  double rate_hz = 1000.0;
+  double deadline_us = 900.0;  // wait for this cycle's state at most this long after the cycle starts
+  std::string fallback = "hold";
+  double lost_ms = 50.0;       // no state for this long: the server is lost, forces ramp down
+  int client_id = 1;
+  double duration = 0.0;       // s; 0: until the device's script ends (or forever)
+  double connect_timeout = 10.0;  // s to wait for the server's first status
+  bool quiet = false;
+};
+
+// Returns the exit code: 0 done, 2 setup error, 3 no server.
+int runClient(const ClientOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace igms

@@ -1,0 +1,62 @@
+#include "haptic_client/servo/client_bus.h"
+
+#include "channels.h"
+#include "core/realtime/clock.h"
+
+namespace igms {
+
+namespace {
+ReceivedState initialState(int nlinks, int nq) {
+  ReceivedState r;
+  r.sample.links.assign(static_cast<size_t>(nlinks), SE3::Identity());
+  r.sample.q.assign(static_cast<size_t>(nq), 0.0);
+  return r;
+}
+}  // namespace
+
+ClientBus::ClientBus(const std::string& url, int nlinks, int nq)
+    : lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq)) {
+  haptic_input_t probe{};
+  buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256);
+  if (!lcm_.good()) return;
+  lcm_.subscribe(channels::kRobotState, &ClientBus::onState, this)->setQueueCapacity(100);
+  lcm_.subscribe(channels::kServerStatus, &ClientBus::onStatus, this);
+}
+
+void ClientBus::onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m) {
+  ReceivedState& r = states_.back();
+  RobotSample& s = r.sample;
+  if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size()) return;
+  s.seq = m->seq;
+  s.input_seq = m->input_seq;
+  s.sim_time = m->sim_time;
+  for (size_t k = 0; k < s.links.size(); ++k) {
+    const auto& p = m->link_poses[k];
+    s.links[k].p = Vector3(p[0], p[1], p[2]);
+    s.links[k].R = Eigen::Quaterniond(p[3], p[4], p[5], p[6]).normalized().toRotationMatrix();
+  }
+  std::copy(m->q.begin(), m->q.end(), s.q.begin());
+  r.received = monotonicSeconds();
+  states_.publish();
+}
+
+void ClientBus::onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m) {
+  {
+    std::lock_guard<std::mutex> lock(names_mutex_);
+    link_names_ = m->link_names;
+  }
+  token_ = m->session_token;
+  have_token_ = true;
+}
+
+std::vector<std::string> ClientBus::serverLinkNames() {
+  std::lock_guard<std::mutex> lock(names_mutex_);
+  return link_names_;
+}
+
+void ClientBus::publishInput(const haptic_input_t& msg) {
+  const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  if (n > 0) lcm_.publish(channels::kHapticInput, buffer_.data(), static_cast<unsigned>(n));
+}
+
+}  // namespace igms

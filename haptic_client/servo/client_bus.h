@@ -1,0 +1,53 @@
+// The client's side of the bus. In: robot states (decoded on the bus thread
+// into a triple buffer the servo loop takes from without locks) and the
+// server's status (its session token and link order). Out: the servo loop's
+// inputs as raw bytes from a preallocated buffer, and the client status.
+#pragma once
+
+#include <atomic>
+#include <lcm/lcm-cpp.hpp>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/realtime/triple_buffer.h"
+#include "haptic_client/servo/state_estimate.h"
+#include "igms/haptic_input_t.hpp"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+
+namespace igms {
+
+struct ReceivedState {
+  RobotSample sample;
+  double received = 0.0;  // monotonic s
+};
+
+class ClientBus {
+ public:
+  // nlinks, nq: the scene's model; states of another shape are ignored.
+  ClientBus(const std::string& url, int nlinks, int nq);
+  bool good() { return lcm_.good(); }
+  lcm::LCM& lcm() { return lcm_; }
+
+  TripleBuffer<ReceivedState>& states() { return states_; }
+  bool haveServer() const { return have_token_; }
+  int64_t sessionToken() const { return token_; }
+  std::vector<std::string> serverLinkNames();
+  // Encodes into the preallocated buffer and publishes (the servo loop's only I/O).
+  void publishInput(const haptic_input_t& msg);
+
+  void onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m);
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m);
+
+ private:
+  lcm::LCM lcm_;
+  TripleBuffer<ReceivedState> states_;
+  std::atomic<int64_t> token_{0};
+  std::atomic<bool> have_token_{false};
+  std::mutex names_mutex_;
+  std::vector<std::string> link_names_;
+  std::vector<uint8_t> buffer_;
+};
+
+}  // namespace igms

@@ -1,0 +1,67 @@
+#include "haptic_client/servo/client_status_thread.h"
+
+#include <cstdio>
+
+#include "channels.h"
+#include "core/realtime/clock.h"
+#include "igms/client_status_t.hpp"
+
+namespace igms {
+
+ClientStatusThread::ClientStatusThread(ClientBus& bus, ServoStats& stats, ClientIdentity who)
+    : bus_(bus), stats_(stats), who_(std::move(who)), last_t_(monotonicSeconds()) {
+  thread_ = std::thread([this] { run(); });
+}
+
+ClientStatusThread::~ClientStatusThread() {
+  stop_ = true;
+  thread_.join();
+}
+
+void ClientStatusThread::run() {
+  double next_status = monotonicSeconds() + 0.1;
+  bool was_lost = false;
+  while (!stop_) {
+    bus_.lcm().handleTimeout(5);
+    const double now = monotonicSeconds();
+    if (stats_.lost != was_lost) {
+      was_lost = stats_.lost;
+      if (was_lost)
+        std::fprintf(stderr, "igms-haptic: server lost (no state for %.0f ms): forces ramping down\n", who_.lost_ms);
+      else
+        std::fprintf(stderr, "igms-haptic: server back: forces ramping up\n");
+    }
+    if (now < next_status) continue;
+    next_status += 0.1;
+    publishStatus(now);
+  }
+}
+
+void ClientStatusThread::publishStatus(double now) {
+  client_status_t s;
+  s.utime = wallMicros();
+  s.seq = seq_++;
+  s.client_id = who_.client_id;
+  s.device = who_.device;
+  s.fallback = who_.fallback;
+  s.state = stats_.finished ? "finished" : stats_.lost ? "server_lost" : "running";
+  s.cycles = stats_.cycles;
+  s.rate_hz = static_cast<double>(s.cycles - last_cycles_) / (now - last_t_);
+  last_cycles_ = s.cycles;
+  last_t_ = now;
+  const auto j = stats_.jitter.drain(), r = stats_.rtt.drain();
+  s.jitter_us_p50 = j[0]; s.jitter_us_p99 = j[1]; s.jitter_us_max = j[2];
+  s.rtt_us_p50 = r[0]; s.rtt_us_p99 = r[1]; s.rtt_us_max = r[2];
+  s.deadline_misses = stats_.misses;
+  s.max_consecutive_misses = stats_.max_consecutive;
+  s.fallbacks = stats_.fallbacks;
+  s.late_replies = stats_.late;
+  s.state_age_ms = stats_.state_age_ms;
+  s.force_scale = stats_.force_scale;
+  s.max_force_step = stats_.max_force_step;
+  s.mode = static_cast<int8_t>(stats_.mode.load());
+  for (int k = 0; k < 3; ++k) s.rendered_force[k] = stats_.force[k];
+  bus_.lcm().publish(channels::kClientStatus, &s);
+}
+
+}  // namespace igms

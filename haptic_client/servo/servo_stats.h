@@ -1,0 +1,78 @@
+// The servo loop's figures, written by the loop (no lock, no allocation) and
+// read by the status thread: counters, short windows of samples (p50, p99,
+// max since the last status) and whole-run histograms.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+namespace igms {
+
+// Samples of one statistic, written by the servo loop, read by the status thread.
+class SampleRing {
+ public:
+  void push(double x) {
+    const uint64_t i = n_.load(std::memory_order_relaxed);
+    v_[i % v_.size()].store(x, std::memory_order_relaxed);
+    n_.store(i + 1, std::memory_order_release);
+  }
+  // p50, p99, max of the samples since the last call (the reader's side: allocates).
+  std::array<double, 3> drain() {
+    const uint64_t n = n_.load(std::memory_order_acquire);
+    const uint64_t from = std::max(read_, n > v_.size() ? n - v_.size() : 0);
+    std::vector<double> s;
+    for (uint64_t i = from; i < n; ++i) s.push_back(v_[i % v_.size()].load(std::memory_order_relaxed));
+    read_ = n;
+    if (s.empty()) return {0, 0, 0};
+    std::sort(s.begin(), s.end());
+    return {s[s.size() / 2], s[std::min(s.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(s.size())))],
+            s.back()};
+  }
+
+ private:
+  std::array<std::atomic<double>, 4096> v_{};
+  std::atomic<uint64_t> n_{0};
+  uint64_t read_ = 0;
+};
+
+// Whole-run distribution of a time in microseconds: 1 us bins up to 20 ms,
+// preallocated, filled by the servo loop, read at the end.
+class Histogram {
+ public:
+  void add(double us) {
+    ++bins_[static_cast<size_t>(std::clamp(us, 0.0, static_cast<double>(bins_.size() - 1)))];
+    ++n_;
+  }
+  double percentile(double p) const {
+    const auto want = static_cast<int64_t>(p * static_cast<double>(n_));
+    int64_t seen = 0;
+    for (size_t b = 0; b < bins_.size(); ++b)
+      if ((seen += bins_[b]) > want) return static_cast<double>(b);
+    return static_cast<double>(bins_.size() - 1);
+  }
+  double max() const {
+    for (size_t b = bins_.size(); b-- > 0;)
+      if (bins_[b]) return static_cast<double>(b);
+    return 0.0;
+  }
+  int64_t count() const { return n_; }
+
+ private:
+  std::array<int64_t, 20000> bins_{};
+  int64_t n_ = 0;
+};
+
+struct ServoStats {
+  std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0};
+  std::atomic<double> state_age_ms{0}, force_scale{1}, max_force_step{0};
+  std::atomic<int> mode{0};
+  std::atomic<double> force[3] = {0, 0, 0};
+  std::atomic<bool> lost{false}, finished{false};
+  SampleRing jitter, rtt;
+  Histogram rtt_all, jitter_all;
+};
+
+}  // namespace igms
