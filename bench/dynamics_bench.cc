@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cli/command_line.h"
 #include "core/dynamics/aba.h"
 #include "core/dynamics/crba.h"
 #include "core/dynamics/forward_dynamics.h"
@@ -176,15 +177,13 @@ void benchRobot(const Robot& r, std::vector<Row>& rows) {
 
 int main(int argc, char** argv) {
   std::string json_path;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") g_samples = 31;
-    else if (arg == "--json" && i + 1 < argc) json_path = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: igms-bench [--quick] [--json FILE]\n");
-      return 2;
-    }
-  }
+  bool quick = false;
+  CLI::App app{"", "igms-bench"};
+  igms::cli::describe(app, "igms against KDL in one interleaved run: median microseconds per call and the ratio.");
+  app.add_flag("--quick", quick, "31 samples instead of 201");
+  app.add_option("--json", json_path, "also write the rows here as JSON");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
+  if (quick) g_samples = 31;
   const char* src = std::getenv("IGMS_SOURCE_DIR");
   const std::string dir = std::string(src ? src : IGMS_SOURCE_DIR) + "/models/";
   auto read = [](const std::string& path) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cli/command_line.h"
 #include "server/collision/collision_world.h"
 #include "core/simulation/simulation.h"
 
@@ -46,14 +47,17 @@ std::vector<double> timeSteps(Simulation& sim, const InteractionInput* in, int n
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int n = (argc > 1 && std::string(argv[1]) == "--quick") ? 3000 : 20000;
+  bool quick = false;
+  CLI::App app{"", "igms-step-bench"};
+  igms::cli::describe(app, "One server step (the paper's loop) on the committed scenes: median and p99.");
+  app.add_flag("--quick", quick, "3000 steps per row instead of 20000");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
+  const int n = quick ? 3000 : 20000;
   const std::string dir = std::string(IGMS_SOURCE_DIR) + "/scenes/";
   std::printf("igms-step-bench: one simulation step, %d steps each (1 kHz scenes)\n", n);
   for (const char* integrator : {"linearly_implicit", "semi_implicit_euler", "rk4"}) {
     Scene scene = loadScene(dir + "puma_wall.yaml");
-    scene.integrator = std::string(integrator) == "rk4" ? IntegratorKind::Rk4
-                       : std::string(integrator) == "semi_implicit_euler" ? IntegratorKind::SemiImplicitEuler
-                                                                           : IntegratorKind::LinearlyImplicit;
+    parseIntegrator(integrator, &scene.integrator);
     Simulation sim(scene);
     auto us = timeSteps(sim, nullptr, n);
     report(("PUMA, trajectory + computed torque + FD, " + std::string(integrator)).c_str(), us);

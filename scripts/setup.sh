@@ -12,6 +12,7 @@ packages=(
   liblcm-dev liblcm-bin liblcm-java           # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy (lcm.jar)
   libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
   liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
+  libcli11-dev                                # command lines (CLI11)
   libgtest-dev nlohmann-json3-dev zlib1g-dev  # tests, igms-dyn's JSON, compressed logs
   iproute2 util-linux                         # ip, unshare: private network namespace for LCM
   python3 python3-yaml python3-matplotlib     # model generators, plots

@@ -1,48 +1,41 @@
-// igms-haptic --scene scenes/puma_obstacle.yaml --device scripted:scenes/push_demo.yaml
-//             [--lcm-url URL] [--rate HZ] [--deadline-us US] [--fallback hold|extrapolate|interpolate]
-//             [--lost-ms MS] [--client-id N] [--duration S] [--quiet]
+// igms-haptic --scene scenes/puma_obstacle.yaml --device scripted:scenes/push_demo.yaml [...]
 #include <sys/prctl.h>
 
 #include <csignal>
-#include <cstdio>
-#include <cstdlib>
-#include <string>
 
+#include "core/cli/command_line.h"
 #include "haptic_client/app/haptic_client.h"
+#include "haptic_client/device/device_registry.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
 void onSignal(int) { g_stop = true; }
-int usage(const char* why) {
-  if (why) std::fprintf(stderr, "igms-haptic: %s\n", why);
-  std::fprintf(stderr,
-               "usage: igms-haptic --scene FILE --device scripted:FILE|replay:LOG [--lcm-url URL] [--rate HZ]\n"
-               "                   [--deadline-us US] [--fallback hold|extrapolate|interpolate] [--lost-ms MS]\n"
-               "                   [--client-id N] [--duration S] [--quiet]\n");
-  return 2;
-}
 }  // namespace
 
 int main(int argc, char** argv) {
   igms::ClientOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (i + 1 >= argc && a != "--quiet" && a != "-h" && a != "--help") return usage(("missing value after " + a).c_str());
-    if (a == "--scene") o.scene_path = argv[++i];
-    else if (a == "--device") o.device = argv[++i];
-    else if (a == "--lcm-url") o.lcm_url = argv[++i];
-    else if (a == "--rate") o.rate_hz = std::atof(argv[++i]);
-    else if (a == "--deadline-us") o.deadline_us = std::atof(argv[++i]);
-    else if (a == "--fallback") o.fallback = argv[++i];
-    else if (a == "--lost-ms") o.lost_ms = std::atof(argv[++i]);
-    else if (a == "--client-id") o.client_id = std::atoi(argv[++i]);
-    else if (a == "--duration") o.duration = std::atof(argv[++i]);
-    else if (a == "--quiet") o.quiet = true;
-    else if (a == "-h" || a == "--help") { usage(nullptr); return 0; }
-    else return usage(("unknown argument " + a).c_str());
-  }
-  if (o.scene_path.empty() || o.device.empty()) return usage("--scene and --device are required");
-  if (!(o.rate_hz > 0) || !(o.deadline_us > 0)) return usage("--rate and --deadline-us must be positive");
+  CLI::App app{"", "igms-haptic"};
+  igms::cli::describe(app,
+                      "The haptic client: the 1 kHz servo loop between a device and igms-server. Run it inside "
+                      "scripts/netns_run.sh when the URL is udpm:// (the default).");
+  app.footer("Devices (--device NAME[:ARGS]):\n" + igms::DeviceRegistry::usage());
+  app.add_option("--scene", o.scene_path, "the server's scene file (YAML)")->required()->check(CLI::ExistingFile);
+  app.add_option("--device", o.device, "NAME[:ARGS], see below")->required();
+  app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
+  app.add_option("--rate", o.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
+  app.add_option("--deadline-us", o.deadline_us, "wait for this cycle's state at most this long")
+      ->check(igms::cli::positive("US"));
+  app.add_option("--fallback", o.fallback, "when the state is late")
+      ->check(CLI::IsMember({"hold", "extrapolate", "interpolate"}));
+  app.add_option("--lost-ms", o.lost_ms, "no state for this long: the server is lost, forces ramp down")
+      ->check(igms::cli::positive("MS"));
+  app.add_option("--client-id", o.client_id, "this client's id in its inputs");
+  app.add_option("--duration", o.duration, "seconds to run (0: until the device's script ends)")
+      ->check(igms::cli::Seconds);
+  app.add_option("--connect-timeout", o.connect_timeout, "seconds to wait for the server's first status")
+      ->check(igms::cli::positive("SECONDS"));
+  app.add_flag("--quiet", o.quiet, "no start and summary lines on stderr");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   // Sleeps wake within 1 us of their time, not the default 50 us of slack.
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
   std::signal(SIGINT, onSignal);

@@ -1,59 +1,43 @@
-// igms-server --scene scenes/puma_wall.yaml [--lcm-url URL] [--clock realtime|lockstep]
-//             [--duration S] [--save-edited FILE] [--session-token N] [--paused] [--quiet]
+// igms-server --scene scenes/puma_wall.yaml [--lcm-url URL] [--clock realtime|lockstep] ...
 #include <sys/prctl.h>
 
 #include <csignal>
-#include <cstdio>
-#include <cstdlib>
-#include <string>
 
+#include "core/cli/command_line.h"
 #include "server/app/server.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
 void onSignal(int) { g_stop = true; }
-
-int usage(const char* why) {
-  if (why) std::fprintf(stderr, "igms-server: %s\n", why);
-  std::fprintf(stderr,
-               "usage: igms-server --scene FILE [--lcm-url URL] [--clock realtime|lockstep] [--duration S]\n"
-               "                   [--save-edited FILE] [--session-token N] [--paused] [--quiet]\n"
-               "                   [--fault-drop FRACTION] [--fault-burst-ms MS] [--fault-delay-us US]\n"
-               "Run it inside scripts/netns_run.sh when the URL is udpm:// (the default).\n");
-  return 2;
-}
 }  // namespace
 
 int main(int argc, char** argv) {
   igms::ServerOptions o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        usage(("missing value after " + a).c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--scene") o.scene_path = value();
-    else if (a == "--lcm-url") o.lcm_url = value();
-    else if (a == "--clock") {
-      const std::string c = value();
-      if (c == "realtime") o.clock = igms::ServerOptions::Clock::Realtime;
-      else if (c == "lockstep") o.clock = igms::ServerOptions::Clock::Lockstep;
-      else return usage("--clock is realtime or lockstep");
-    } else if (a == "--duration") o.duration = std::atof(value().c_str());
-    else if (a == "--save-edited") o.save_edited = value();
-    else if (a == "--session-token") o.session_token = std::atoll(value().c_str());
-    else if (a == "--paused") o.start_paused = true;
-    else if (a == "--quiet") o.quiet = true;
-    else if (a == "--fault-drop") o.fault_drop = std::atof(value().c_str());
-    else if (a == "--fault-burst-ms") o.fault_burst_ms = std::atof(value().c_str());
-    else if (a == "--fault-delay-us") o.fault_delay_us = std::atof(value().c_str());
-    else if (a == "-h" || a == "--help") { usage(nullptr); return 0; }
-    else return usage(("unknown argument " + a).c_str());
-  }
-  if (o.scene_path.empty()) return usage("--scene is required");
+  CLI::App app{"", "igms-server"};
+  igms::cli::describe(app,
+                      "The dynamics server: runs a scene, takes haptic inputs and commands from LCM, publishes the "
+                      "robot state every step. Run it inside scripts/netns_run.sh when the URL is udpm:// (the "
+                      "default).");
+  app.add_option("--scene", o.scene_path, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
+  std::string clock = "realtime";
+  app.add_option("--clock", clock, "realtime: steps on absolute deadlines; lockstep: one step per input")
+      ->check(CLI::IsMember({"realtime", "lockstep"}));
+  app.add_option("--duration", o.duration, "simulated seconds to run (0: until stopped)")->check(igms::cli::Seconds);
+  app.add_option("--save-edited", o.save_edited, "write the edited trajectory here on exit");
+  app.add_option("--session-token", o.session_token, "the session token (0: random)");
+  app.add_flag("--paused", o.start_paused, "start paused (START or STEP commands go on)");
+  app.add_option("--input-hold", o.input_hold, "s an input keeps acting without a newer one (realtime clock)")
+      ->check(igms::cli::Seconds);
+  app.add_flag("--quiet", o.quiet, "no status lines on stderr");
+  auto* faults = app.add_option_group("fault injection", "on the published states, to test a client's fallbacks");
+  faults->add_option("--fault-drop", o.fault_drop, "fraction of states not published")->check(CLI::Range(0.0, 1.0));
+  faults->add_option("--fault-burst-ms", o.fault_burst_ms, "every second, no states for this long")
+      ->check(igms::cli::nonNegative("MS"));
+  faults->add_option("--fault-delay-us", o.fault_delay_us, "every state published this much later")
+      ->check(igms::cli::nonNegative("US"));
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
+  o.clock = clock == "lockstep" ? igms::ServerOptions::Clock::Lockstep : igms::ServerOptions::Clock::Realtime;
   // Sleeps wake within 1 us of their time, not the default 50 us of slack.
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
   std::signal(SIGINT, onSignal);

@@ -2,53 +2,32 @@
 //   igms-dyn info  --model ROBOT.urdf [--floating-base]
 //   igms-dyn eval  --model ROBOT.urdf [--floating-base] < in.jsonl > out.jsonl
 //   igms-dyn bench --model ROBOT.urdf [--floating-base] [--json]
-// See README.md for the JSON contract.
-#include <cstring>
+// See README.md for the JSON contract. Exit codes: 0 done, 1 a bad input
+// line (eval), 2 a bad command line or model.
 #include <iostream>
 #include <string>
 
+#include "core/cli/command_line.h"
 #include "core/model_io/model_loader.h"
 #include "tools/igms_dyn/commands.h"
 
-namespace {
-
-int usage(const char* why) {
-  if (why) std::cerr << "igms-dyn: " << why << "\n";
-  std::cerr << "usage: igms-dyn info|eval|bench --model ROBOT.urdf|ROBOT.dh.yaml [--floating-base] [--json]\n"
-               "  info   print nq, nv, joints and links as one JSON object\n"
-               "  eval   read JSON lines {q, v, a?, tau?, fext?} on stdin, write {tau?, M, bias, qdd?, poses}\n"
-               "  bench  median microseconds per call of rnea, crba, bias, fd, aba, fk, jacobian\n";
-  return 2;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  if (argc < 2) return usage(nullptr);
-  const std::string command = argv[1];
-  if (command == "-h" || command == "--help") {
-    usage(nullptr);
-    return 0;
-  }
   std::string model_path;
   bool floating = false, json = false, verbose = false;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--model" && i + 1 < argc) {
-      model_path = argv[++i];
-    } else if (arg == "--floating-base") {
-      floating = true;
-    } else if (arg == "--json") {
-      json = true;
-    } else if (arg == "--verbose") {
-      verbose = true;
-    } else {
-      return usage(("unknown argument '" + arg + "'").c_str());
-    }
+  CLI::App app{"", "igms-dyn"};
+  igms::cli::describe(app, "igms's kinematics and dynamics on a URDF or DH model, as JSON.");
+  app.require_subcommand(1);
+  auto* info = app.add_subcommand("info", "nq, nv, joints and links as one JSON object");
+  auto* eval = app.add_subcommand(
+      "eval", "JSON lines {q, v, a?, tau?, fext?} on stdin -> {tau?, M, bias, qdd?, poses} on stdout");
+  auto* bench = app.add_subcommand("bench", "median microseconds per call of rnea, crba, bias, fd, aba, fk, jacobian");
+  for (CLI::App* cmd : {info, eval, bench}) {
+    cmd->add_option("--model", model_path, "ROBOT.urdf or ROBOT.dh.yaml")->required()->check(CLI::ExistingFile);
+    cmd->add_flag("--floating-base", floating, "a free root (7 q, 6 v first)");
+    cmd->add_flag("--verbose", verbose, "print the model's load warnings");
   }
-  if (command != "info" && command != "eval" && command != "bench")
-    return usage(("unknown command '" + command + "'").c_str());
-  if (model_path.empty()) return usage("--model is required");
+  bench->add_flag("--json", json, "one JSON object");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
 
   igms::Model model;
   std::vector<std::string> warnings;
@@ -64,7 +43,7 @@ int main(int argc, char** argv) {
     for (const auto& w : warnings) std::cerr << w << "\n";
 
   std::ios::sync_with_stdio(false);
-  if (command == "info") return igms::dyn::info(model, std::cout);
-  if (command == "eval") return igms::dyn::eval(model, std::cin, std::cout, std::cerr);
+  if (*info) return igms::dyn::info(model, std::cout);
+  if (*eval) return igms::dyn::eval(model, std::cin, std::cout, std::cerr);
   return igms::dyn::bench(model, json, std::cout);
 }

@@ -29,6 +29,7 @@
 #include <unistd.h>
 
 #include "channels.h"
+#include "core/cli/command_line.h"
 #include "tools/eventlog/event_log.h"
 
 namespace {
@@ -45,16 +46,6 @@ struct Options {
   size_t queue = 20000;
   std::string lcm_url, stats_file;
 };
-
-int usage(const char* why) {
-  if (why) std::fprintf(stderr, "igms-logger: %s\n", why);
-  std::fprintf(stderr,
-               "usage: igms-logger [-o NAME] [--increment] [--timestamp] [-c REGEX] [-v|--invert-channels]\n"
-               "                   [--split-mb N] [--split-s S] [--rotate N] [--flush-ms MS] [--queue N]\n"
-               "                   [--lcm-url URL] [--duration S] [--wait-session-s S] [--stats-file FILE]\n"
-               "                   [-q] [--verbose] [--slow-disk-us US]\n");
-  return 2;
-}
 
 bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
 
@@ -227,42 +218,50 @@ class Logger {
 
 }  // namespace
 
+// The command line into *o; -1 to go on, else the exit code.
+int parseOptions(int argc, char** argv, Options* o) {
+  CLI::App app{"", "igms-logger"};
+  igms::cli::describe(app,
+                      "Records LCM traffic to an event log (lcm-logger's format): a receive queue and a writer "
+                      "thread, drops counted, the session info first. Run it inside scripts/netns_run.sh.");
+  app.add_option("-o,--output", o->name, "log file (default: a dated name in the current folder)");
+  app.add_flag("--increment", o->increment, "add a number to the name instead of overwriting");
+  app.add_flag("--timestamp", o->timestamp, "add the date and time to the name");
+  app.add_option("-c,--channel", o->channel_regex, "channels to record (a regular expression)")
+      ->check(CLI::Validator(
+          [](std::string& re) -> std::string {
+            try {
+              std::regex test(re);
+            } catch (const std::regex_error& e) {
+              return std::string("bad channel regex: ") + e.what();
+            }
+            return "";
+          },
+          "REGEX"));
+  app.add_flag("-v,--invert-channels", o->invert, "record the channels that do not match");
+  app.add_option("--split-mb", o->split_mb, "start a new file after this many MB (0: never)")
+      ->check(igms::cli::nonNegative("MB"));
+  app.add_option("--split-s", o->split_s, "start a new file after this many seconds (0: never)")
+      ->check(igms::cli::Seconds);
+  app.add_option("--rotate", o->rotate, "keep only the newest N split files (0: all)")->check(CLI::NonNegativeNumber);
+  app.add_option("--flush-ms", o->flush_ms, "flush to disk at least this often")->check(igms::cli::positive("MS"));
+  app.add_option("--queue", o->queue, "messages the receive queue holds before it drops")->check(CLI::PositiveNumber);
+  app.add_option("--lcm-url", o->lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")
+      ->check(igms::cli::LcmUrl);
+  app.add_option("--duration", o->duration, "seconds to record (0: until stopped)")->check(igms::cli::Seconds);
+  app.add_option("--wait-session-s", o->wait_session_s, "hold messages this long for the session info to come first")
+      ->check(igms::cli::Seconds);
+  app.add_option("--stats-file", o->stats_file, "write the final counts here as JSON");
+  app.add_option("--slow-disk-us", o->slow_disk_us, "(tests) sleep this long per write")
+      ->check(igms::cli::nonNegative("US"));
+  app.add_flag("-q,--quiet", o->quiet, "no summary on stderr");
+  app.add_flag("--verbose", o->verbose, "counts on stderr every second");
+  return igms::cli::parse(app, argc, argv);
+}
+
 int main(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        usage(("missing value after " + a).c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "-o" || a == "--output") o.name = value();
-    else if (a == "--increment") o.increment = true;
-    else if (a == "--timestamp") o.timestamp = true;
-    else if (a == "-c" || a == "--channel") o.channel_regex = value();
-    else if (a == "-v" || a == "--invert-channels") o.invert = true;
-    else if (a == "--split-mb") o.split_mb = std::atof(value().c_str());
-    else if (a == "--split-s") o.split_s = std::atof(value().c_str());
-    else if (a == "--rotate") o.rotate = std::atoi(value().c_str());
-    else if (a == "--flush-ms") o.flush_ms = std::atof(value().c_str());
-    else if (a == "--queue") o.queue = static_cast<size_t>(std::atol(value().c_str()));
-    else if (a == "--lcm-url") o.lcm_url = value();
-    else if (a == "--duration") o.duration = std::atof(value().c_str());
-    else if (a == "--wait-session-s") o.wait_session_s = std::atof(value().c_str());
-    else if (a == "--stats-file") o.stats_file = value();
-    else if (a == "--slow-disk-us") o.slow_disk_us = std::atof(value().c_str());
-    else if (a == "-q" || a == "--quiet") o.quiet = true;
-    else if (a == "--verbose") o.verbose = true;
-    else if (a == "-h" || a == "--help") { usage(nullptr); return 0; }
-    else return usage(("unknown argument " + a).c_str());
-  }
-  try {
-    std::regex test(o.channel_regex);
-  } catch (const std::regex_error& e) {
-    return usage(("bad channel regex: " + std::string(e.what())).c_str());
-  }
+  if (const int code = parseOptions(argc, argv, &o); code >= 0) return code;
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);

@@ -21,20 +21,15 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "core/cli/command_line.h"
 #include "core/model/configuration.h"
 #include "core/model_io/model_loader.h"
 #include "tools/eventlog/event_log.h"
 #include "tools/ode_ref/ode_replay.h"
 
 namespace {
-
-int usage() {
-  std::fprintf(stderr,
-               "usage: igms-ode-ref log LOG [--track] [--out OUT.lcmlog] [--quickstep] [--base-dir DIR] [--json]\n"
-               "       igms-ode-ref torques MODEL TORQUES.csv --out OUT.lcmlog [--dt H] [--q0 a,b,..] [--v0 a,b,..]\n"
-               "                    [--floating-base] [--gravity x,y,z] [--damping] [--quickstep]\n");
-  return 2;
-}
 
 bool parseList(const std::string& text, std::vector<double>& out) {
   out.clear();
@@ -49,26 +44,39 @@ bool parseList(const std::string& text, std::vector<double>& out) {
   return !out.empty();
 }
 
-int replayLog(int argc, char** argv) {
-  if (argc < 3) return usage();
-  const std::string path = argv[2];
-  std::string out_path, base_dir = ".";
+struct LogOptions {
+  std::string path, out_path, base_dir = ".";
   bool json = false, track = false;
   igms::OdeSettings settings;
-  for (int i = 3; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--out" && i + 1 < argc) out_path = argv[++i];
-    else if (a == "--base-dir" && i + 1 < argc) base_dir = argv[++i];
-    else if (a == "--quickstep") settings.quickstep = true;
-    else if (a == "--json") json = true;
-    else if (a == "--track") track = true;
-    else return usage();
-  }
+};
+
+void printJson(const LogOptions& o, const igms::OdeReplayResult& r) {
+  const double seconds = r.steps * r.dt;
+  const nlohmann::json j = {{"log", o.path},
+                            {"ok", r.ok},
+                            {"steps", r.steps},
+                            {"dt", r.dt},
+                            {"q_max", r.q_max},
+                            {"q_rms", r.q_rms},
+                            {"link_max", r.link_max},
+                            {"tracking", o.track},
+                            {"correction_rms", r.correction_rms},
+                            {"tau_rms", r.tau_rms},
+                            {"wall_s_per_s", r.wall_seconds / std::max(seconds, 1e-9)},
+                            {"link_max_by_second", r.link_max_by_second}};
+  std::printf("%s\n", j.dump().c_str());
+}
+
+int replayLog(const LogOptions& o) {
+  const std::string& path = o.path;
+  const std::string& out_path = o.out_path;
+  const bool json = o.json, track = o.track;
+  const igms::OdeSettings& settings = o.settings;
   const igms::log::LogContents c = igms::log::readAll(path);
   if (c.damaged)
     std::fprintf(stderr, "igms-ode-ref: %s\nigms-ode-ref: using the %zu events before the damage\n", c.error.c_str(),
                  c.events.size());
-  const igms::OdeReplayResult r = igms::replayOnOde(c.events, settings, base_dir, track);
+  const igms::OdeReplayResult r = igms::replayOnOde(c.events, settings, o.base_dir, track);
   if (!r.ok && r.states.size() <= 1) {
     std::fprintf(stderr, "igms-ode-ref: %s: %s\n", path.c_str(), r.error.c_str());
     return 1;
@@ -76,15 +84,7 @@ int replayLog(int argc, char** argv) {
   if (!out_path.empty()) igms::writeStateLog(out_path, &r.info, r.states);
   const double seconds = r.steps * r.dt;
   if (json) {
-    std::printf("{\"log\": \"%s\", \"ok\": %s, \"steps\": %lld, \"dt\": %.17g, \"q_max\": %.6g, \"q_rms\": %.6g, "
-                "\"link_max\": %.6g, \"tracking\": %s, \"correction_rms\": %.6g, \"tau_rms\": %.6g, "
-                "\"wall_s_per_s\": %.6g, \"link_max_by_second\": [",
-                path.c_str(), r.ok ? "true" : "false", static_cast<long long>(r.steps), r.dt, r.q_max, r.q_rms,
-                r.link_max, track ? "true" : "false", r.correction_rms, r.tau_rms,
-                r.wall_seconds / std::max(seconds, 1e-9));
-    for (size_t k = 0; k < r.link_max_by_second.size(); ++k)
-      std::printf("%s%.6g", k ? ", " : "", r.link_max_by_second[k]);
-    std::printf("]}\n");
+    printJson(o, r);
   } else {
     std::printf("%s: %lld steps of %.3g ms (%.2f s) on ODE %s, %s\n", path.c_str(), static_cast<long long>(r.steps),
                 r.dt * 1e3, seconds, settings.quickstep ? "QuickStep" : "dWorldStep",
@@ -107,30 +107,24 @@ int replayLog(int argc, char** argv) {
   return 0;
 }
 
-int runTorques(int argc, char** argv) {
-  if (argc < 4) return usage();
-  const std::string model_path = argv[2], csv = argv[3];
-  std::string out_path;
+struct TorqueOptions {
+  std::string model_path, csv, out_path;
   double dt = 0.0;
   std::vector<double> q0, v0, gravity;
   igms::BuildOptions build;
   igms::OdeSettings settings;
-  for (int i = 4; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool more = i + 1 < argc;
-    if (a == "--out" && more) out_path = argv[++i];
-    else if (a == "--dt" && more) dt = std::atof(argv[++i]);
-    else if (a == "--q0" && more) { if (!parseList(argv[++i], q0)) return usage(); }
-    else if (a == "--v0" && more) { if (!parseList(argv[++i], v0)) return usage(); }
-    else if (a == "--gravity" && more) {
-      if (!parseList(argv[++i], gravity) || gravity.size() != 3) return usage();
-      build.gravity = igms::Vector3(gravity[0], gravity[1], gravity[2]);
-    } else if (a == "--floating-base") build.floating_base = true;
-    else if (a == "--damping") settings.joint_damping = true;
-    else if (a == "--quickstep") settings.quickstep = true;
-    else return usage();
-  }
-  if (out_path.empty()) return usage();
+};
+
+int runTorques(TorqueOptions& o) {
+  const std::string& model_path = o.model_path;
+  const std::string& csv = o.csv;
+  const std::string& out_path = o.out_path;
+  double dt = o.dt;
+  const std::vector<double>& q0 = o.q0;
+  const std::vector<double>& v0 = o.v0;
+  if (o.gravity.size() == 3) o.build.gravity = igms::Vector3(o.gravity[0], o.gravity[1], o.gravity[2]);
+  const igms::BuildOptions& build = o.build;
+  const igms::OdeSettings& settings = o.settings;
   try {
     const igms::Model m = igms::buildModel(igms::loadDescription(model_path), build);
     igms::VectorX q = igms::neutralConfiguration(m), v = igms::VectorX::Zero(m.nv);
@@ -139,7 +133,7 @@ int runTorques(int argc, char** argv) {
         std::fprintf(stderr, "igms-ode-ref: --q0 has %zu values, %s has nq = %d\n", q0.size(), model_path.c_str(), m.nq);
         return 2;
       }
-      q = Eigen::Map<igms::VectorX>(q0.data(), m.nq);
+      q = Eigen::Map<const igms::VectorX>(q0.data(), m.nq);
       igms::normalizeConfiguration(m, q);
     }
     if (!v0.empty()) {
@@ -147,7 +141,7 @@ int runTorques(int argc, char** argv) {
         std::fprintf(stderr, "igms-ode-ref: --v0 has %zu values, %s has nv = %d\n", v0.size(), model_path.c_str(), m.nv);
         return 2;
       }
-      v = Eigen::Map<igms::VectorX>(v0.data(), m.nv);
+      v = Eigen::Map<const igms::VectorX>(v0.data(), m.nv);
     }
     std::ifstream in(csv);
     if (!in) {
@@ -198,12 +192,49 @@ int runTorques(int argc, char** argv) {
   return 0;
 }
 
+// "a,b,c" of finite numbers into a vector option.
+CLI::Validator numberList(size_t count) {
+  return CLI::Validator(
+      [count](std::string& text) -> std::string {
+        std::vector<double> v;
+        if (!parseList(text, v)) return "expected finite numbers separated by commas, got '" + text + "'";
+        if (count && v.size() != count) return "expected " + std::to_string(count) + " numbers";
+        return "";
+      },
+      "a,b,..");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) return usage();
-  const std::string cmd = argv[1];
-  if (cmd == "log") return replayLog(argc, argv);
-  if (cmd == "torques") return runTorques(argc, argv);
-  return usage();
+  CLI::App app{"", "igms-ode-ref"};
+  igms::cli::describe(app, "The same robot in ODE 0.16, driven by what igms applied; writes an igms state log.");
+  app.require_subcommand(1);
+  LogOptions lo;
+  auto* log_cmd = app.add_subcommand("log", "replay a recorded igms session in ODE and compare");
+  log_cmd->add_option("LOG", lo.path, "the session log")->required()->check(CLI::ExistingFile);
+  log_cmd->add_flag("--track", lo.track, "add the scene's PD gains on ODE's deviation from the recording");
+  log_cmd->add_option("--out", lo.out_path, "write ODE's run as an igms state log");
+  log_cmd->add_flag("--quickstep", lo.settings.quickstep, "ODE's iterative QuickStep instead of dWorldStep");
+  log_cmd->add_option("--base-dir", lo.base_dir, "resolve the scene's relative paths from here");
+  log_cmd->add_flag("--json", lo.json, "one JSON object on stdout");
+  TorqueOptions to;
+  std::string q0, v0, gravity;
+  auto* torque_cmd = app.add_subcommand("torques", "apply a torque sequence (CSV rows: t, tau_1 .. tau_nv)");
+  torque_cmd->add_option("MODEL", to.model_path, "URDF or DH table")->required()->check(CLI::ExistingFile);
+  torque_cmd->add_option("TORQUES", to.csv, "CSV file")->required()->check(CLI::ExistingFile);
+  torque_cmd->add_option("--out", to.out_path, "the state log to write")->required();
+  torque_cmd->add_option("--dt", to.dt, "step, s (default: the spacing of t)")->check(igms::cli::positive("SECONDS"));
+  torque_cmd->add_option("--q0", q0, "initial q")->check(numberList(0));
+  torque_cmd->add_option("--v0", v0, "initial v")->check(numberList(0));
+  torque_cmd->add_option("--gravity", gravity, "x,y,z")->check(numberList(3));
+  torque_cmd->add_flag("--floating-base", to.build.floating_base, "a free root");
+  torque_cmd->add_flag("--damping", to.settings.joint_damping, "apply the URDF's joint damping");
+  torque_cmd->add_flag("--quickstep", to.settings.quickstep, "ODE's iterative QuickStep instead of dWorldStep");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
+  if (*log_cmd) return replayLog(lo);
+  if (!q0.empty()) parseList(q0, to.q0);
+  if (!v0.empty()) parseList(v0, to.v0);
+  if (!gravity.empty()) parseList(gravity, to.gravity);
+  return runTorques(to);
 }

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "channels.h"
+#include "core/cli/command_line.h"
 #include "igms/client_status_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
@@ -38,17 +39,6 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 void onSignal(int) { g_stop = true; }
-
-int usage(const char* why) {
-  if (why) std::fprintf(stderr, "igms-replay: %s\n", why);
-  std::fprintf(stderr,
-               "usage: igms-replay info LOG\n"
-               "       igms-replay play LOG [--speed X|--fast] [--channel REGEX] [--remap FROM=TO]... [--start S]\n"
-               "                            [--end S] [--loop] [--step] [--lcm-url URL]\n"
-               "       igms-replay resim LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]\n"
-               "       igms-replay export LOG DIR\n");
-  return 2;
-}
 
 igms::log::LogContents load(const std::string& path) {
   igms::log::LogContents c = igms::log::readAll(path);
@@ -81,35 +71,26 @@ int info(const std::string& path) {
   return c.damaged ? 3 : 0;
 }
 
-int play(const std::string& path, int argc, char** argv) {
-  double speed = 1.0, start = 0.0, end = INFINITY;
+struct PlayOptions {
+  double speed = 1.0, start = 0.0, end = 1e300;
   bool fast = false, loop = false, step = false;
   std::string regex = ".*", url;
+  std::vector<std::string> remaps;  // FROM=TO
+};
+
+int play(const std::string& path, const PlayOptions& o) {
   std::map<std::string, std::string> remap;
-  for (int i = 0; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
-    if (a == "--speed") speed = std::atof(value().c_str());
-    else if (a == "--fast") fast = true;
-    else if (a == "--channel") regex = value();
-    else if (a == "--remap") {
-      const std::string r = value();
-      const size_t eq = r.find('=');
-      if (eq == std::string::npos) return usage("--remap wants FROM=TO");
-      remap[r.substr(0, eq)] = r.substr(eq + 1);
-    } else if (a == "--start") start = std::atof(value().c_str());
-    else if (a == "--end") end = std::atof(value().c_str());
-    else if (a == "--loop") loop = true;
-    else if (a == "--step") step = true;
-    else if (a == "--lcm-url") url = value();
-    else return usage(("unknown argument " + a).c_str());
-  }
-  if (!(speed > 0)) return usage("--speed must be positive");
+  for (const auto& r : o.remaps) remap[r.substr(0, r.find('='))] = r.substr(r.find('=') + 1);
   const auto c = load(path);
   if (c.events.empty()) return 1;
-  lcm::LCM bus(url.empty() ? igms::channels::kDefaultUrl : url);
-  if (!bus.good()) return usage("cannot open LCM");
-  const std::regex filter(regex);
+  lcm::LCM bus(o.url.empty() ? igms::channels::kDefaultUrl : o.url);
+  if (!bus.good()) {
+    std::fprintf(stderr, "igms-replay: cannot open LCM at %s\n", o.url.c_str());
+    return 2;
+  }
+  const std::regex filter(o.regex);
+  const double speed = o.speed, start = o.start, end = o.end;
+  const bool fast = o.fast, loop = o.loop, step = o.step;
   const int64_t t0 = c.events.front().utime;
   int64_t published = 0;
   do {
@@ -136,18 +117,16 @@ int play(const std::string& path, int argc, char** argv) {
   return c.damaged ? 3 : 0;
 }
 
-int resim(const std::string& path, int argc, char** argv) {
+struct ResimOptions {
   double tolerance = 1e-9;
   bool require_identical = false, json = false;
   std::string base = ".";
-  for (int i = 0; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--tolerance" && i + 1 < argc) tolerance = std::atof(argv[++i]);
-    else if (a == "--require-identical") require_identical = true;
-    else if (a == "--base-dir" && i + 1 < argc) base = argv[++i];
-    else if (a == "--json") json = true;
-    else return usage(("unknown argument " + a).c_str());
-  }
+};
+
+int resim(const std::string& path, const ResimOptions& o) {
+  const double tolerance = o.tolerance;
+  const bool require_identical = o.require_identical, json = o.json;
+  const std::string& base = o.base;
   const auto c = load(path);
   const igms::ResimResult r = igms::resimulate(c.events, base);
   if (!r.ok) {
@@ -185,7 +164,10 @@ int exportCsv(const std::string& path, const std::string& dir) {
   mkdir(dir.c_str(), 0755);
   std::ofstream states(dir + "/states.csv"), inputs(dir + "/inputs.csv"), client(dir + "/client_status.csv"),
       server(dir + "/server_status.csv");
-  if (!states) return usage(("cannot write to " + dir).c_str());
+  if (!states) {
+    std::fprintf(stderr, "igms-replay: cannot write to %s\n", dir.c_str());
+    return 2;
+  }
   states.precision(17);
   inputs.precision(17);
   bool header = false;
@@ -264,19 +246,52 @@ int exportCsv(const std::string& path, const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3) return usage(nullptr);
+  CLI::App app{"", "igms-replay"};
+  igms::cli::describe(app, "Plays back, re-simulates and exports igms session logs (.lcmlog or .lcmlog.gz). A damaged "
+                           "log gives its byte offset; the events before the damage are used (exit code 3).");
+  app.require_subcommand(1);
+  std::string path, dir;
+  auto* info_cmd = app.add_subcommand("info", "events per channel, the session");
+  info_cmd->add_option("LOG", path, "the log")->required()->check(CLI::ExistingFile);
+  PlayOptions play_options;
+  auto* play_cmd = app.add_subcommand("play", "publish the log's events on the bus, timed");
+  play_cmd->add_option("LOG", path, "the log")->required()->check(CLI::ExistingFile);
+  play_cmd->add_option("--speed", play_options.speed, "times real time")->check(igms::cli::positive("X"));
+  play_cmd->add_flag("--fast", play_options.fast, "as fast as possible");
+  play_cmd->add_option("--channel", play_options.regex, "only these channels (a regular expression)");
+  play_cmd->add_option("--remap", play_options.remaps, "publish channel FROM as TO (repeatable)")
+      ->allow_extra_args(false)
+      ->check(CLI::Validator([](std::string& r) { return r.find('=') == std::string::npos ? "wants FROM=TO" : ""; },
+                             "FROM=TO"));
+  play_cmd->add_option("--start", play_options.start, "from this time, s after the first event")
+      ->check(igms::cli::Seconds);
+  play_cmd->add_option("--end", play_options.end, "until this time, s after the first event")
+      ->check(igms::cli::Seconds);
+  play_cmd->add_flag("--loop", play_options.loop, "start again at the end");
+  play_cmd->add_flag("--step", play_options.step, "one event per Enter");
+  play_cmd->add_option("--lcm-url", play_options.url, "LCM URL")->check(igms::cli::LcmUrl);
+  ResimOptions resim_options;
+  auto* resim_cmd = app.add_subcommand("resim", "re-simulate the recorded session and compare, field by field");
+  resim_cmd->add_option("LOG", path, "the log")->required()->check(CLI::ExistingFile);
+  resim_cmd->add_option("--tolerance", resim_options.tolerance, "largest deviation that passes")
+      ->check(igms::cli::nonNegative("T"));
+  resim_cmd->add_flag("--require-identical", resim_options.require_identical, "fail unless bit for bit");
+  resim_cmd->add_option("--base-dir", resim_options.base, "resolve the scene's relative paths from here");
+  resim_cmd->add_flag("--json", resim_options.json, "one JSON object on stdout");
+  auto* export_cmd = app.add_subcommand("export", "CSV files and the scene, for plots");
+  export_cmd->add_option("LOG", path, "the log")->required()->check(CLI::ExistingFile);
+  export_cmd->add_option("DIR", dir, "output folder")->required();
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  const std::string cmd = argv[1], path = argv[2];
   try {
-    if (cmd == "info") return info(path);
-    if (cmd == "play") return play(path, argc - 3, argv + 3);
-    if (cmd == "resim") return resim(path, argc - 3, argv + 3);
-    if (cmd == "export") return argc < 4 ? usage("export wants LOG DIR") : exportCsv(path, argv[3]);
+    if (*info_cmd) return info(path);
+    if (*play_cmd) return play(path, play_options);
+    if (*resim_cmd) return resim(path, resim_options);
+    return exportCsv(path, dir);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-replay: %s\n", e.what());
     return 1;
   }
-  return usage(("unknown command " + cmd).c_str());
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "channels.h"
+#include "core/cli/command_line.h"
 #include "igms/client_status_t.hpp"
 #include "igms/command_t.hpp"
 #include "igms/haptic_input_t.hpp"
@@ -206,18 +207,16 @@ int main(int argc, char** argv) {
   std::string url, filter = ".*";
   bool once = false, json = false;
   double window = 1.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--lcm-url" && i + 1 < argc) url = argv[++i];
-    else if (a == "--once") once = true;
-    else if (a == "--json") json = true;
-    else if (a == "--window" && i + 1 < argc) window = std::atof(argv[++i]);
-    else if (a == "--channel" && i + 1 < argc) filter = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: igms-spy [--lcm-url URL] [--once] [--window S] [--json] [--channel REGEX]\n");
-      return a == "-h" || a == "--help" ? 0 : 2;
-    }
-  }
+  CLI::App app{"", "igms-spy"};
+  igms::cli::describe(app,
+                      "A terminal monitor of the bus (lcm-spy style): rate, bandwidth and the decoded igms fields per "
+                      "channel. Run it inside scripts/netns_run.sh.");
+  app.add_option("--lcm-url", url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
+  app.add_flag("--once", once, "print one window and exit");
+  app.add_option("--window", window, "seconds each figure is measured over")->check(igms::cli::positive("SECONDS"));
+  app.add_flag("--json", json, "JSON instead of a table");
+  app.add_option("--channel", filter, "only these channels (a regular expression)");
+  if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
