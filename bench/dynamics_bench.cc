@@ -30,7 +30,7 @@
 #include "core/model/configuration.h"
 #include "core/model_io/urdf_loader.h"
 #include "tests/support/kdl_from_urdf.h"
-#include "tests/support/random_urdf.h"
+#include "tools/synthetic/random_urdf.h"
 
 namespace {
 
@@ -193,8 +193,8 @@ int main(int argc, char** argv) {
   const std::vector<Robot> robots = {{"puma560", read(dir + "puma560.urdf")},
                                      {"arm7", read(dir + "arm7.urdf")},
                                      {"quadruped", read(dir + "quadruped.urdf"), true},
-                                     {"chain30", test::serialChainUrdf(30)},
-                                     {"chain100", test::serialChainUrdf(100)}};
+                                     {"chain30", synthetic::serialChainUrdf(30)},
+                                     {"chain100", synthetic::serialChainUrdf(100)}};
   std::printf("igms-bench: median microseconds per call, %d interleaved samples; ratio = igms / KDL\n", g_samples);
   std::vector<Row> rows;
   for (const auto& r : robots) benchRobot(r, rows);

@@ -11,7 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=${1:?push, pull or nominal}
 out=${2:?output directory}
-if [[ "${IGMS_IN_NETNS:-}" != "1" ]]; then exec scripts/netns_run.sh "$0" "$@"; fi
+source scripts/lib/session.sh
+igms_in_netns "$0" "$@"
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 url="udpm://239.255.76.67:${IGMS_PAPER_PORT:-7797}?ttl=0"
@@ -23,20 +24,11 @@ case $mode in
   nominal) device=scripted:scenes/idle_device.yaml ;;
   *) echo "paper_run.sh: push, pull or nominal" >&2; exit 2 ;;
 esac
-rm -f "$out/session.lcmlog"
-build/tools/igms-logger -o "$out/session.lcmlog" --lcm-url "$url" -q --wait-session-s 5 \
-  -c 'IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS)' &
-logger=$!
-sleep 0.3
-build/server/igms-server --scene $scene --clock lockstep --lcm-url "$url" --quiet \
-  --save-edited "$out/edited_trajectory.yaml" &
-server=$!
-sleep 0.3
-build/haptic_client/igms-haptic --scene $scene --device "$device" --lcm-url "$url" --duration $seconds \
-  2> "$out/client.log"
-kill "$server"; wait "$server" || true
-sleep 0.3
-kill "$logger"; wait "$logger" || true
+igms_start_logger "$out/session.lcmlog" "$url" -q --wait-session-s 5 \
+  -c 'IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS)'
+igms_start_server $scene "$url" --clock lockstep --quiet --save-edited "$out/edited_trajectory.yaml"
+igms_run_client $scene "$device" "$url" --duration $seconds 2> "$out/client.log"
+igms_stop_all
 build/tools/igms-replay export "$out/session.lcmlog" "$out/export" 2>/dev/null
 /usr/bin/python3 scripts/plot_session.py "$out/export" --out "$out" --title "$mode" >/dev/null
 /usr/bin/python3 scripts/session_summary.py "$out" "$mode"

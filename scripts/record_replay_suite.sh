@@ -11,7 +11,8 @@
 #   scripts/record_replay_suite.sh [--accept]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [[ "${IGMS_IN_NETNS:-}" != "1" ]]; then exec scripts/netns_run.sh "$0" "$@"; fi
+source scripts/lib/session.sh
+igms_in_netns "$0" "$@"
 accept=${1:-}
 out=out/replay_suite
 mkdir -p "$out"
@@ -25,17 +26,10 @@ record() {  # name script [server options...]
   if [[ $name == paper_* ]]; then scene=scenes/puma_obstacle.yaml; seconds="--duration 6"; fi
   local only=$channels
   [[ "$*" == *fault* ]] && only='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE_TRUTH)'
-  rm -f "$out/$name.lcmlog"
-  build/tools/igms-logger -o "$out/$name.lcmlog" -c "$only" --lcm-url "$url" -q --wait-session-s 5 &
-  local logger=$!
-  sleep 0.3
-  build/server/igms-server --scene $scene --clock lockstep --lcm-url "$url" --quiet "$@" &
-  local server=$!
-  sleep 0.3
-  build/haptic_client/igms-haptic --scene $scene --device "scripted:$script" --lcm-url "$url" --quiet $seconds
-  kill "$server"; wait "$server" || true
-  sleep 0.3
-  kill "$logger"; wait "$logger" || true
+  igms_start_logger "$out/$name.lcmlog" "$url" -c "$only" -q --wait-session-s 5
+  igms_start_server $scene "$url" --clock lockstep --quiet "$@"
+  igms_run_client $scene "scripted:$script" "$url" --quiet $seconds
+  igms_stop_all
   if [[ $name == paper_* ]]; then gzip -f "$out/$name.lcmlog"; fi
   echo "recorded $name"
 }

@@ -7,16 +7,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 busy=${2:-}
-if [[ "${IGMS_IN_NETNS:-}" != "1" ]]; then exec scripts/netns_run.sh "$0" "$@"; fi
+source scripts/lib/session.sh
+igms_in_netns "$0" "$@"
 url="udpm://239.255.76.67:7790?ttl=0"
-build/server/igms-server --scene scenes/puma_wall.yaml --clock lockstep --lcm-url "$url" --quiet &
-server=$!
-spinner=""
+igms_start_server scenes/puma_wall.yaml "$url" --clock lockstep --quiet
 if [[ "$busy" == "--busy" ]]; then
   (while :; do :; done) &
-  spinner=$!
+  igms_pids+=($!)  # stopped with the server
 fi
-trap 'kill $server ${spinner} 2>/dev/null || true' EXIT
-sleep 0.5
-build/haptic_client/igms-haptic --scene scenes/puma_wall.yaml --device scripted:scenes/idle_device.yaml \
-  --lcm-url "$url" --duration "$seconds"
+sleep 0.2
+igms_run_client scenes/puma_wall.yaml scripted:scenes/idle_device.yaml "$url" --duration "$seconds"

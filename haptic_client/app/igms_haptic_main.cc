@@ -1,16 +1,9 @@
 // igms-haptic --scene scenes/puma_obstacle.yaml --device scripted:scenes/push_demo.yaml [...]
-#include <sys/prctl.h>
-
-#include <csignal>
 
 #include "core/cli/command_line.h"
+#include "core/realtime/stop_signal.h"
 #include "haptic_client/app/haptic_client.h"
 #include "haptic_client/device/device_registry.h"
-
-namespace {
-std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
-}  // namespace
 
 int main(int argc, char** argv) {
   igms::ClientOptions o;
@@ -36,9 +29,5 @@ int main(int argc, char** argv) {
       ->check(igms::cli::positive("SECONDS"));
   app.add_flag("--quiet", o.quiet, "no start and summary lines on stderr");
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
-  // Sleeps wake within 1 us of their time, not the default 50 us of slack.
-  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  return igms::runClient(o, g_stop);
+  return igms::runClient(o, igms::stopOnSignals());
 }

@@ -1,15 +1,8 @@
 // igms-server --scene scenes/puma_wall.yaml [--lcm-url URL] [--clock realtime|lockstep] ...
-#include <sys/prctl.h>
-
-#include <csignal>
 
 #include "core/cli/command_line.h"
+#include "core/realtime/stop_signal.h"
 #include "server/app/server.h"
-
-namespace {
-std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
-}  // namespace
 
 int main(int argc, char** argv) {
   igms::ServerOptions o;
@@ -38,9 +31,5 @@ int main(int argc, char** argv) {
       ->check(igms::cli::nonNegative("US"));
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   o.clock = clock == "lockstep" ? igms::ServerOptions::Clock::Lockstep : igms::ServerOptions::Clock::Realtime;
-  // Sleeps wake within 1 us of their time, not the default 50 us of slack.
-  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  return igms::runServer(o, g_stop);
+  return igms::runServer(o, igms::stopOnSignals());
 }

@@ -12,7 +12,7 @@
 #include "core/model/configuration.h"
 #include "core/model_io/model_loader.h"
 #include "core/model_io/urdf_loader.h"
-#include "tests/support/random_urdf.h"
+#include "tools/synthetic/random_urdf.h"
 #include "tools/ode_ref/ode_robot.h"
 
 namespace igms::accuracy {
@@ -84,7 +84,7 @@ Case makeCase(const std::string& name, const std::string& dir) {
     c.duration = 2.048;
     c.ee_frame = "ee_link";
   } else if (name == "chain30") {
-    c.model = std::make_shared<Model>(buildModel(parseUrdfDescription(test::serialChainUrdf(30)), {}));
+    c.model = std::make_shared<Model>(buildModel(parseUrdfDescription(synthetic::serialChainUrdf(30)), {}));
     c.q0 = VectorX::Constant(30, 0.2);
     c.v0 = VectorX::Zero(30);
     c.ee_frame = "l30";

@@ -11,8 +11,8 @@
 #include "core/model/configuration.h"
 #include "core/model_io/model_loader.h"
 #include "core/model_io/urdf_loader.h"
-#include "tests/support/fd_digits.h"
-#include "tests/support/random_urdf.h"
+#include "tools/accuracy/fd_digits.h"
+#include "tools/synthetic/random_urdf.h"
 #include "tools/accuracy/accuracy.h"
 #include "tools/accuracy/stiffness.h"
 #include "tools/ode_ref/ode_robot.h"
@@ -374,14 +374,14 @@ void conditioning(std::vector<ExtremeRow>& rows) {
     std::string urdf;
     double per_cond, floor;
   };
-  const Item items[] = {{"mass_ratio 1e3 (12 links, root to tip)", test::taperedChainUrdf(1.0, 1e3), 1e-13, 1e-12},
-                        {"mass_ratio 1e6 (12 links, root to tip)", test::taperedChainUrdf(1.0, 1e6), 1e-13, 1e-12},
-                        {"links of 1 g (12 links)", test::taperedChainUrdf(1e-3, 1.0), 1e-13, 1e-12},
-                        {"links of 1 t (12 links)", test::taperedChainUrdf(1e3, 1.0), 1e-13, 1e-12},
-                        {"long_chain 100 links", test::serialChainUrdf(100), 1e-13, 0.0},
-                        {"long_chain 200 links", test::serialChainUrdf(200), 1e-13, 0.0}};
+  const Item items[] = {{"mass_ratio 1e3 (12 links, root to tip)", synthetic::taperedChainUrdf(1.0, 1e3), 1e-13, 1e-12},
+                        {"mass_ratio 1e6 (12 links, root to tip)", synthetic::taperedChainUrdf(1.0, 1e6), 1e-13, 1e-12},
+                        {"links of 1 g (12 links)", synthetic::taperedChainUrdf(1e-3, 1.0), 1e-13, 1e-12},
+                        {"links of 1 t (12 links)", synthetic::taperedChainUrdf(1e3, 1.0), 1e-13, 1e-12},
+                        {"long_chain 100 links", synthetic::serialChainUrdf(100), 1e-13, 0.0},
+                        {"long_chain 200 links", synthetic::serialChainUrdf(200), 1e-13, 0.0}};
   for (const Item& it : items) {
-    const test::FdDigits r = test::measureFdDigits(buildModel(parseUrdfDescription(it.urdf), {}), 5, 5, it.per_cond,
+    const FdDigits r = measureFdDigits(buildModel(parseUrdfDescription(it.urdf), {}), 5, 5, it.per_cond,
                                                    it.floor);
     rows.push_back({it.name, "forward dynamics (LDL^T, ABA)", "FD(ID(a)) and ABA vs LDL^T within cond(H) * 1e-13",
                     format("cond(H) %.2g; FD(ID(a)) error %.2g (%.1f digits); ABA vs LDL^T %.2g", r.worst_cond,

@@ -10,12 +10,10 @@
 // was full are counted per channel and reported. The first event of each log
 // file is the server's session_info (scene, model hash, build), held back for
 // up to --wait-session-s while it has not been seen.
-#include <sys/prctl.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <csignal>
 #include <cstdio>
 #include <ctime>
 #include <deque>
@@ -30,12 +28,11 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/realtime/stop_signal.h"
 #include "tools/eventlog/event_log.h"
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
 
 struct Options {
   std::string name;
@@ -262,9 +259,7 @@ int parseOptions(int argc, char** argv, Options* o) {
 int main(int argc, char** argv) {
   Options o;
   if (const int code = parseOptions(argc, argv, &o); code >= 0) return code;
-  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  std::atomic<bool>& g_stop = igms::stopOnSignals();
   lcm::LCM bus(o.lcm_url.empty() ? igms::channels::kDefaultUrl : o.lcm_url + (o.lcm_url.find('?') == std::string::npos ? "?recv_buf_size=2097152" : "&recv_buf_size=2097152"));
   if (!bus.good()) {
     std::fprintf(stderr, "igms-logger: cannot open LCM\n");

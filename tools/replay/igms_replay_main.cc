@@ -8,13 +8,11 @@
 //
 // A damaged log gives a clear error with the byte offset; the events before
 // the damage are still used (exit code 3 then, unless the command failed).
-#include <sys/prctl.h>
 #include <sys/stat.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -27,6 +25,7 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
@@ -37,8 +36,6 @@
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
 
 igms::log::LogContents load(const std::string& path) {
   igms::log::LogContents c = igms::log::readAll(path);
@@ -97,7 +94,7 @@ int play(const std::string& path, const PlayOptions& o) {
     const auto wall0 = std::chrono::steady_clock::now();
     const double first = start;
     for (const auto& e : c.events) {
-      if (g_stop) break;
+      if (igms::stopRequested()) break;
       const double t = 1e-6 * static_cast<double>(e.utime - t0);
       if (t < start || t > end || !std::regex_match(e.channel, filter)) continue;
       if (step) {
@@ -112,7 +109,7 @@ int play(const std::string& path, const PlayOptions& o) {
       bus.publish(it == remap.end() ? e.channel : it->second, e.data.data(), static_cast<unsigned>(e.data.size()));
       ++published;
     }
-  } while (loop && !g_stop);
+  } while (loop && !igms::stopRequested());
   std::fprintf(stderr, "igms-replay: published %lld events\n", static_cast<long long>(published));
   return c.damaged ? 3 : 0;
 }
@@ -282,9 +279,7 @@ int main(int argc, char** argv) {
   export_cmd->add_option("LOG", path, "the log")->required()->check(CLI::ExistingFile);
   export_cmd->add_option("DIR", dir, "output folder")->required();
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
-  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  igms::stopOnSignals();
   try {
     if (*info_cmd) return info(path);
     if (*play_cmd) return play(path, play_options);

@@ -2,13 +2,11 @@
 // bandwidth, seq gaps, undecodable messages and the latest decoded igms
 // message; plus the server's and the client's health.
 //   igms-spy [--lcm-url URL] [--once] [--window S] [--json] [--channel REGEX]
-#include <sys/prctl.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
@@ -20,6 +18,7 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
 #include "igms/command_t.hpp"
 #include "igms/haptic_input_t.hpp"
@@ -31,8 +30,6 @@
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
 
 double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -217,9 +214,7 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "JSON instead of a table");
   app.add_option("--channel", filter, "only these channels (a regular expression)");
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
-  prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  std::atomic<bool>& g_stop = igms::stopOnSignals();
   lcm::LCM bus(url.empty() ? igms::channels::kDefaultUrl : url);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-spy: cannot open LCM\n");

@@ -1,4 +1,4 @@
-#include "tests/support/random_urdf.h"
+#include "tools/synthetic/random_urdf.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <vector>
 
-namespace igms::test {
+namespace igms::synthetic {
 namespace {
 
 struct Gen {
@@ -129,4 +129,4 @@ std::string taperedChainUrdf(double base, double ratio) {
   return out.str();
 }
 
-}  // namespace igms::test
+}  // namespace igms::synthetic
