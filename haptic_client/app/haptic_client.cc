@@ -97,6 +97,9 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
   if (!o.quiet) printSummary(stats, wall);
+  if (bus.undecodable() > 0)
+    std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
+                 static_cast<long long>(bus.undecodable()));
   return 0;
 }
 

@@ -2,6 +2,7 @@
 
 #include "channels.h"
 #include "core/realtime/clock.h"
+#include "safe_decode.h"
 
 namespace igms {
 
@@ -23,7 +24,12 @@ ClientBus::ClientBus(const std::string& url, int nlinks, int nq)
   lcm_.subscribe(channels::kServerStatus, &ClientBus::onStatus, this);
 }
 
-void ClientBus::onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m) {
+void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  if (!safeDecode(rbuf->data, rbuf->data_size, &state_msg_)) {
+    ++undecodable_;
+    return;
+  }
+  const robot_state_t* m = &state_msg_;
   ReceivedState& r = states_.back();
   RobotSample& s = r.sample;
   if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size()) return;
@@ -40,7 +46,12 @@ void ClientBus::onState(const lcm::ReceiveBuffer*, const std::string&, const rob
   states_.publish();
 }
 
-void ClientBus::onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m) {
+void ClientBus::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+  if (!safeDecode(rbuf->data, rbuf->data_size, &status_msg_)) {
+    ++undecodable_;
+    return;
+  }
+  const server_status_t* m = &status_msg_;
   {
     std::lock_guard<std::mutex> lock(names_mutex_);
     link_names_ = m->link_names;

@@ -37,8 +37,11 @@ class ClientBus {
   // Encodes into the preallocated buffer and publishes (the servo loop's only I/O).
   void publishInput(const haptic_input_t& msg);
 
-  void onState(const lcm::ReceiveBuffer*, const std::string&, const robot_state_t* m);
-  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const server_status_t* m);
+  // Messages that failed to decode (counted, never fatal).
+  int64_t undecodable() const { return undecodable_; }
+
+  void onState(const lcm::ReceiveBuffer* rbuf, const std::string&);
+  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&);
 
  private:
   lcm::LCM lcm_;
@@ -48,6 +51,9 @@ class ClientBus {
   std::mutex names_mutex_;
   std::vector<std::string> link_names_;
   std::vector<uint8_t> buffer_;
+  robot_state_t state_msg_;   // decoded into on the bus thread (its vectors keep their capacity)
+  server_status_t status_msg_;
+  std::atomic<int64_t> undecodable_{0};
 };
 
 }  // namespace igms

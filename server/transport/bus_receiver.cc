@@ -2,6 +2,7 @@
 
 #include "channels.h"
 #include "core/realtime/clock.h"
+#include "safe_decode.h"
 
 namespace igms {
 
@@ -24,7 +25,7 @@ void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   haptic_input_t msg;
   std::lock_guard<std::mutex> lock(mutex_);
   if (!gate_) return;
-  if (msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+  if (!safeDecode(rbuf->data, rbuf->data_size, &msg)) {
     gate_->countUndecodable();
     return;
   }
@@ -38,7 +39,7 @@ void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
 
 void BusReceiver::onCommand(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   command_t cmd;
-  const bool decoded = cmd.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) >= 0;
+  const bool decoded = safeDecode(rbuf->data, rbuf->data_size, &cmd);
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.commands_received;
   if (!decoded || commands_.size() >= kMaxQueuedCommands) {

@@ -242,6 +242,36 @@ TEST(Server, UnknownAndUndecodableCommandsAreCountedAndChangeNothing) {
   EXPECT_TRUE(std::isfinite(listener.last.q[0]));
 }
 
+// LCM 1.3.1's decoders throw std::length_error on a string whose length
+// field is 0: one such datagram used to abort the server (exit 134).
+TEST(Server, ZeroLengthStringsOnInputAndCommandAreRejectedAndCounted) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  auto zeroString = [](auto msg, size_t length_offset) {
+    std::vector<uint8_t> buf(static_cast<size_t>(msg.getEncodedSize()));
+    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    for (size_t k = 0; k < 4; ++k) buf[length_offset + k] = 0;  // the string's length field
+    return buf;
+  };
+  // command_t: fingerprint 8, utime 8, seq 8, kind 1, then text's length.
+  command_t c{};
+  c.kind = command_t::SAVE_TRAJECTORY;
+  c.text = "x";
+  const auto bad_command = zeroString(c, 25);
+  // haptic_input_t: ... tip_radius, buttons, then contact_link's length at byte 154.
+  const auto bad_input = zeroString(input(30, haptic_input_t::MODE_NONE, Vector3::Zero()), 154);
+  bus.publish(channels::kCommand, bad_command.data(), static_cast<unsigned>(bad_command.size()));
+  bus.publish(channels::kHapticInput, bad_input.data(), static_cast<unsigned>(bad_input.size()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  EXPECT_TRUE(server.running()) << "the server survived both";
+  std::lock_guard<std::mutex> l(listener.mutex);
+  EXPECT_EQ(listener.status.commands_rejected, 1);
+  EXPECT_EQ(listener.status.rejected_by_reason[server_status_t::REJECT_UNDECODABLE], 1);
+  EXPECT_EQ(listener.status.state, "running");
+}
+
 TEST(Server, LockstepTakesOneStepPerInputAndRecordsItsSeq) {
   Listener listener;
   ChildProcess server({std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/puma_wall.yaml", "--lcm-url",

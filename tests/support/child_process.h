@@ -45,13 +45,17 @@ class ChildProcess {
   }
   // Waits for the child to exit by itself.
   int wait(std::chrono::milliseconds limit) { return waitFor(limit); }
-  bool running() const { return pid_ > 0; }
+  // Not yet reaped: started and has not exited (running() after a crash is false once checked).
+  bool running() {
+    waitFor(std::chrono::milliseconds(0));
+    return pid_ > 0;
+  }
   pid_t pid() const { return pid_; }
 
  private:
   int waitFor(std::chrono::milliseconds limit) {
     const auto end = std::chrono::steady_clock::now() + limit;
-    while (pid_ > 0 && std::chrono::steady_clock::now() < end) {
+    for (bool first = true; pid_ > 0 && (first || std::chrono::steady_clock::now() < end); first = false) {
       int status = 0;
       if (waitpid(pid_, &status, WNOHANG) == pid_) {
         pid_ = -1;
