@@ -10,7 +10,7 @@ ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame) {}
 
 void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons,
-                                  const std::vector<SE3>& links, haptic_input_t& msg) {
+                                  haptic_input_t& msg) {
   // Pull while the button is held; push when the tip touches a link. Like the
   // force, a push waits for the start-up guard: a tip that starts inside a
   // link must leave it once before it can push.

@@ -17,10 +17,9 @@ class ClientInteraction {
  public:
   explicit ClientInteraction(const ResolvedScene& resolved);
 
-  // Step 2 of a cycle: the input (mode, tip, contact as seen against `links`,
-  // attachment) from the device and the contact found in the last cycle.
-  void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, const std::vector<SE3>& links,
-                 haptic_input_t& msg);
+  // Step 2 of a cycle: the input (mode, tip, the link the last cycle found
+  // touched, attachment) from the device.
+  void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, haptic_input_t& msg);
   // Step 4: the force on the user (the reaction to c or F) against the
   // estimate `links` at simulated time `estimate_time`.
   Vector3 userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
