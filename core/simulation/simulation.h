@@ -102,10 +102,6 @@ class Simulation {
   // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
   std::vector<std::string> activeComponents() const;
 
-  // The evaluation at the start state of the last step (acceleration, H qdd,
-  // the user's force and its linearisation).
-  const CoupledEvaluation& lastEvaluation() const { return scratch_->start; }
-
  private:
   void computeControl(const InteractionInput* input);
   void record(bool force);
