@@ -7,6 +7,7 @@
 #include "haptic_client/device/device_registry.h"
 
 #include "igms/haptic_input_t.hpp"
+#include "safe_decode.h"
 
 namespace igms {
 
@@ -18,7 +19,7 @@ ReplayDevice::ReplayDevice(const std::string& path, const WorkspaceMap& map, con
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != channel) continue;
     haptic_input_t m;
-    if (m.decode(e->data, 0, static_cast<int>(e->datalen)) < 0) continue;
+    if (!igms::safeDecode(e->data, static_cast<int>(e->datalen), &m)) continue;
     if (m.seq <= last_seq) continue;  // replays of one input
     last_seq = m.seq;
     if (first < 0) first = m.utime;

@@ -53,3 +53,37 @@ INSTANTIATE_TEST_SUITE_P(Sessions, ReplaySuite,
 
 }  // namespace
 }  // namespace igms::test
+
+#include "channels.h"
+#include "tools/replay/recorded_session.h"
+
+namespace igms::test {
+namespace {
+
+// A log whose messages do not decode (a zero-length string, which LCM 1.3.1's
+// decoder throws on; bytes of another message type) is read without a throw,
+// and re-simulation says why it has nothing to compare.
+TEST(RecordedSession, UndecodableMessagesAreCountedAndNamedNotFatal) {
+  const std::string path = sourceDir() + "/tests/replay/data/push.lcmlog";
+  log::LogContents log = log::readAll(path);
+  ASSERT_FALSE(log.events.empty());
+  int poisoned = 0;
+  for (auto& e : log.events) {
+    if (e.channel == channels::kSessionInfo) {
+      for (size_t k = 24; k < 28; ++k) e.data[k] = 0;  // fingerprint, utime, session_token: then build_version's length
+      ++poisoned;
+    } else if (e.channel == channels::kRobotState && poisoned < 50) {
+      e.data[0] ^= 0xff;  // another type's fingerprint
+      ++poisoned;
+    }
+  }
+  const RecordedSession session = readRecordedSession(log.events);
+  EXPECT_FALSE(session.has_info);
+  EXPECT_EQ(session.undecodable, poisoned);
+  const ResimResult r = resimulate(log.events, sourceDir());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("did not decode"), std::string::npos) << r.error;
+}
+
+}  // namespace
+}  // namespace igms::test

@@ -33,6 +33,7 @@
 #include "igms/session_info_t.hpp"
 #include "tools/eventlog/event_log.h"
 #include "tools/replay/resimulate.h"
+#include "safe_decode.h"
 
 namespace {
 
@@ -60,7 +61,7 @@ int info(const std::string& path) {
   for (const auto& e : c.events)
     if (e.channel == igms::channels::kSessionInfo) {
       igms::session_info_t s;
-      if (s.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0)
+      if (igms::safeDecode(e.data.data(), e.data.size(), &s))
         std::printf("  session: scene %s, model %s (hash %s), %s clock, dt %g s, %s\n", s.scene_path.c_str(),
                     s.model_path.c_str(), s.model_hash.c_str(), s.clock.c_str(), s.dt, s.build_version.c_str());
       break;
@@ -172,7 +173,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
   for (const auto& e : c.events) {
     igms::server_status_t st;
     if (e.channel == igms::channels::kServerStatus &&
-        st.decode(e.data.data(), 0, static_cast<int>(e.data.size())) >= 0) {
+        igms::safeDecode(e.data.data(), e.data.size(), &st)) {
       links = st.link_names;
       break;
     }
@@ -182,7 +183,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
     const int n = static_cast<int>(e.data.size());
     if (e.channel == igms::channels::kSessionInfo) {
       igms::session_info_t s;
-      if (s.decode(d, 0, n) >= 0) {
+      if (igms::safeDecode(d, n, &s)) {
         std::ofstream(dir + "/scene.yaml") << s.scene_text;
         std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
                                             << "\nmodel_hash: " << s.model_hash << "\nbuild: " << s.build_version
@@ -190,14 +191,14 @@ int exportCsv(const std::string& path, const std::string& dir) {
       }
     } else if (e.channel == igms::channels::kServerStatus) {
       igms::server_status_t s;
-      if (s.decode(d, 0, n) < 0) continue;
+      if (!igms::safeDecode(d, n, &s)) continue;
       server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
              << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
              << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
              << s.commands_rejected << "\n";
     } else if (e.channel == igms::channels::kRobotState) {
       igms::robot_state_t s;
-      if (s.decode(d, 0, n) < 0) continue;
+      if (!igms::safeDecode(d, n, &s)) continue;
       if (!header) {
         states << "t,seq,input_seq,mode";
         for (int j = 0; j < s.nq; ++j) states << ",q" << j;
@@ -224,13 +225,13 @@ int exportCsv(const std::string& path, const std::string& dir) {
       states << "\n";
     } else if (e.channel == igms::channels::kHapticInput) {
       igms::haptic_input_t s;
-      if (s.decode(d, 0, n) < 0) continue;
+      if (!igms::safeDecode(d, n, &s)) continue;
       inputs << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
              << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link
              << "\n";
     } else if (e.channel == igms::channels::kClientStatus) {
       igms::client_status_t s;
-      if (s.decode(d, 0, n) < 0) continue;
+      if (!igms::safeDecode(d, n, &s)) continue;
       client << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
              << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
              << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "\n";

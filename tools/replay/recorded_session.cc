@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "channels.h"
+#include "safe_decode.h"
 
 namespace igms {
 
@@ -14,13 +15,16 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
   for (const auto& e : events) {
     const int size = static_cast<int>(e.data.size());
     if (e.channel == channels::kSessionInfo && !out.has_info) {
-      out.has_info = out.info.decode(e.data.data(), 0, size) >= 0;
+      out.has_info = safeDecode(e.data.data(), size, &out.info);
+      out.undecodable += !out.has_info;
     } else if (e.channel == channels::kHapticInput) {
       haptic_input_t m;
-      if (m.decode(e.data.data(), 0, size) >= 0) out.inputs.emplace(m.seq, m);
+      if (safeDecode(e.data.data(), size, &m)) out.inputs.emplace(m.seq, m);
+      else ++out.undecodable;
     } else if (e.channel == state_channel) {
       robot_state_t m;
-      if (m.decode(e.data.data(), 0, size) >= 0) out.states.push_back(m);
+      if (safeDecode(e.data.data(), size, &m)) out.states.push_back(m);
+      else ++out.undecodable;
     }
   }
   std::sort(out.states.begin(), out.states.end(), [](const auto& a, const auto& b) { return a.seq < b.seq; });

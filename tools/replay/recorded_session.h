@@ -21,6 +21,9 @@ struct RecordedSession {
   session_info_t info;
   std::vector<robot_state_t> states;        // sorted by seq
   std::map<int64_t, haptic_input_t> inputs;  // by seq
+  // Messages on those channels that did not decode: damaged, or recorded with
+  // other message types (another igms version: the type fingerprint differs).
+  int64_t undecodable = 0;
 };
 
 RecordedSession readRecordedSession(const std::vector<log::Event>& events);

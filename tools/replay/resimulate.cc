@@ -25,8 +25,13 @@ void track(FieldDeviation& d, double recorded, double now, int64_t seq, bool& id
 ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir) {
   ResimResult out;
   const RecordedSession session = readRecordedSession(events);
+  const std::string versions =
+      session.undecodable ? " (" + std::to_string(session.undecodable) +
+                                " messages did not decode: damaged, or recorded by another igms version whose message "
+                                "types differ)"
+                          : "";
   if (!session.has_info) {
-    out.error = "the log has no session info (record it with igms-logger while igms-server runs)";
+    out.error = "the log has no session info (record it with igms-logger while igms-server runs)" + versions;
     return out;
   }
   const session_info_t& info = session.info;
@@ -87,7 +92,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   out.identical = identical && out.steps > 0;
   out.final_q.assign(sim->q().data(), sim->q().data() + sim->q().size());
   out.ok = out.steps > 0;
-  if (!out.ok && out.error.empty()) out.error = "the log holds no robot states to compare";
+  if (!out.ok && out.error.empty()) out.error = "the log holds no robot states to compare" + versions;
   return out;
 }
 

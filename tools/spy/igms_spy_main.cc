@@ -27,6 +27,7 @@
 #include "igms/server_status_t.hpp"
 #include "igms/session_info_t.hpp"
 #include "igms/trajectory_t.hpp"
+#include "safe_decode.h"
 
 namespace {
 
@@ -43,7 +44,7 @@ bool summarize(const uint8_t* d, int n, std::string* name, std::string* line, in
   template <>                                                                                      \
   bool summarize<igms::T>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) { \
     igms::T m;                                                                                     \
-    if (m.decode(d, 0, n) < 0) return false;                                                       \
+    if (!igms::safeDecode(d, n, &m)) return false;                                                       \
     *name = #T;                                                                                    \
     char buf[256];                                                                                 \
     std::snprintf(buf, sizeof buf, FMT, __VA_ARGS__);                                              \
@@ -71,7 +72,7 @@ IGMS_SEQ_TYPE(heartbeat_t, "%s pid %d", m.process.c_str(), m.pid)
 template <>
 bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
   igms::session_info_t m;
-  if (m.decode(d, 0, n) < 0) return false;
+  if (!igms::safeDecode(d, n, &m)) return false;
   *name = "session_info_t";
   *line = "scene " + m.scene_path + ", " + m.clock + ", " + m.build_version;
   *seq = -1;
@@ -80,7 +81,7 @@ bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name,
 template <>
 bool summarize<igms::trajectory_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
   igms::trajectory_t m;
-  if (m.decode(d, 0, n) < 0) return false;
+  if (!igms::safeDecode(d, n, &m)) return false;
   *name = "trajectory_t";
   *line = std::to_string(m.npoints) + " points of " + std::to_string(m.nq) + " coordinates";
   *seq = -1;
