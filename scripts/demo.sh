@@ -6,7 +6,8 @@
 # namespace, starts igms-logger, igms-server (scenes/puma_obstacle.yaml, lockstep)
 # and igms-haptic (the scripted device at 1 kHz), stops them cleanly, and writes
 # out/demo/: session.lcmlog, edited_trajectory.yaml, the plots (joints, forces,
-# path, snapshots; PNG and SVG), summary.md and summary.json. For contrast it
+# path, snapshots; PNG and SVG), summary.md and summary.json, and view_push1.png,
+# view_push2.png (or view_pull1.png): the live view at each push, from headless Chromium. For contrast it
 # also runs the nominal motion without interaction (out/demo/nominal/), which hits
 # the obstacle.
 set -euo pipefail
@@ -23,4 +24,7 @@ sed -n 4,5p "$out/nominal/summary.md"
 echo
 scripts/paper_run.sh "$mode" "$out"
 echo
-echo "demo: wrote $out/ (summary.md, plots, session.lcmlog, edited_trajectory.yaml)"
+# The live view at the moment of each push (or pull), from the recorded session, in headless Chromium.
+scripts/screenshot_pushes.py "$out/session.lcmlog" "$out"
+echo
+echo "demo: wrote $out/ (summary.md, plots, view_*.png, session.lcmlog, edited_trajectory.yaml)"

@@ -16,6 +16,9 @@ packages=(
   libgtest-dev nlohmann-json3-dev zlib1g-dev  # tests, igms-dyn's JSON, compressed logs
   iproute2 util-linux                         # ip, unshare: private network namespace for LCM
   python3 python3-yaml python3-matplotlib     # model generators, plots
+  libwebsocketpp-dev libboost-dev libjs-three # browser view: HTTP/WebSocket server, three.js in the page
+  chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)
+  fonts-dejavu-core socat                     # the page's text; scripts/live.sh's bridge out of the netns
 )
 missing=()
 for p in "${packages[@]}"; do

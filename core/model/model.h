@@ -32,12 +32,20 @@ struct CollisionShape {
   SE3 placement;                   // in the frame of the link that owns it
 };
 
+// Visual geometry: what a viewer draws, a shape and its colour.
+struct VisualShape {
+  CollisionShape geometry;         // the shape; placement in the link frame
+  Eigen::Vector4d rgba = Eigen::Vector4d(0.7, 0.7, 0.7, 1.0);
+  bool has_color = false;          // false: the file gave no colour
+};
+
 // One URDF link: where its frame sits on a body.
 struct Frame {
   std::string name;
   int body = -1;     // -1: the fixed root / world
   SE3 placement;     // link frame in the body frame
   std::vector<CollisionShape> collisions;
+  std::vector<VisualShape> visuals;
 };
 
 struct Model {

@@ -167,7 +167,7 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
                                                                        const SE3& placement) {
     visited.insert(name);
     const LinkDescription& link = d.links[link_of[name]];
-    m.frames.push_back(Frame{link.name, body, placement, link.collisions});
+    m.frames.push_back(Frame{link.name, body, placement, link.collisions, link.visuals});
     const bool has_inertia = link.mass > 0.0 || link.inertia.cwiseAbs().maxCoeff() > 0.0;
     if (body >= 0 && has_inertia) {
       m.inertia[static_cast<size_t>(body)] +=

@@ -25,6 +25,7 @@ struct LinkDescription {
   Vector3 com = Vector3::Zero();      // in the link frame
   Matrix3 inertia = Matrix3::Zero();  // about the com, axes of the link frame
   std::vector<CollisionShape> collisions;
+  std::vector<VisualShape> visuals;
 };
 
 struct JointDescription {

@@ -29,6 +29,35 @@ SE3 toSE3(const urdf::Pose& pose) {
 
 Vector3 toVector(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
 
+CollisionShape toShape(const urdf::Geometry& geometry, const urdf::Pose& origin) {
+  CollisionShape s;
+  s.placement = toSE3(origin);
+  switch (geometry.type) {
+    case urdf::Geometry::BOX:
+      s.kind = CollisionShape::Kind::Box;
+      s.size = toVector(static_cast<const urdf::Box&>(geometry).dim);
+      break;
+    case urdf::Geometry::CYLINDER: {
+      const auto& g = static_cast<const urdf::Cylinder&>(geometry);
+      s.kind = CollisionShape::Kind::Cylinder;
+      s.size = Vector3(g.radius, g.length, 0.0);
+      break;
+    }
+    case urdf::Geometry::SPHERE:
+      s.kind = CollisionShape::Kind::Sphere;
+      s.size = Vector3(static_cast<const urdf::Sphere&>(geometry).radius, 0.0, 0.0);
+      break;
+    case urdf::Geometry::MESH: {
+      const auto& g = static_cast<const urdf::Mesh&>(geometry);
+      s.kind = CollisionShape::Kind::Mesh;
+      s.mesh_file = g.filename;
+      s.mesh_scale = toVector(g.scale);
+      break;
+    }
+  }
+  return s;
+}
+
 LinkDescription toLink(const urdf::Link& link) {
   LinkDescription l;
   l.name = link.name;
@@ -42,33 +71,19 @@ LinkDescription toLink(const urdf::Link& link) {
     l.inertia = X.R * I * X.R.transpose();  // the inertial rpy rotates the tensor
   }
   for (const auto& c : link.collision_array) {
-    if (!c || !c->geometry) continue;
-    CollisionShape s;
-    s.placement = toSE3(c->origin);
-    switch (c->geometry->type) {
-      case urdf::Geometry::BOX:
-        s.kind = CollisionShape::Kind::Box;
-        s.size = toVector(std::static_pointer_cast<urdf::Box>(c->geometry)->dim);
-        break;
-      case urdf::Geometry::CYLINDER: {
-        auto g = std::static_pointer_cast<urdf::Cylinder>(c->geometry);
-        s.kind = CollisionShape::Kind::Cylinder;
-        s.size = Vector3(g->radius, g->length, 0.0);
-        break;
-      }
-      case urdf::Geometry::SPHERE:
-        s.kind = CollisionShape::Kind::Sphere;
-        s.size = Vector3(std::static_pointer_cast<urdf::Sphere>(c->geometry)->radius, 0.0, 0.0);
-        break;
-      case urdf::Geometry::MESH: {
-        auto g = std::static_pointer_cast<urdf::Mesh>(c->geometry);
-        s.kind = CollisionShape::Kind::Mesh;
-        s.mesh_file = g->filename;
-        s.mesh_scale = toVector(g->scale);
-        break;
-      }
+    if (c && c->geometry) l.collisions.push_back(toShape(*c->geometry, c->origin));
+  }
+  for (const auto& v : link.visual_array) {
+    if (!v || !v->geometry) continue;
+    VisualShape shape;
+    shape.geometry = toShape(*v->geometry, v->origin);
+    if (v->material) {
+      const urdf::Color& c = v->material->color;
+      // urdfdom leaves a material without <color> black and transparent.
+      shape.has_color = c.r != 0.0f || c.g != 0.0f || c.b != 0.0f || c.a != 0.0f;
+      if (shape.has_color) shape.rgba = Eigen::Vector4d(c.r, c.g, c.b, c.a);
     }
-    l.collisions.push_back(s);
+    l.visuals.push_back(shape);
   }
   return l;
 }

@@ -86,6 +86,8 @@ class Simulation {
   // The goal configuration (end of the nominal trajectory; initial q without one).
   const VectorX& goal() const { return goal_; }
   bool hasTrajectory() const { return !nominal_.empty(); }
+  // The nominal trajectory (empty without one), from simulated time 0.
+  const PiecewisePolynomial& nominal() const { return nominal_; }
 
   // Replace the nominal trajectory (restarts it at the current time).
   void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);

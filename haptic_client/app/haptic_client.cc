@@ -79,7 +79,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
                             if (f < 0 || !estimate.any()) return false;
                             *X = links[static_cast<size_t>(f)];
                             return true;
-                          }};
+                          },
+                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url};
     device = DeviceRegistry::make(o.device, context);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());

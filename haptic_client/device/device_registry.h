@@ -20,6 +20,9 @@ struct DeviceContext {
   WorkspaceMap map;  // device -> scene
   // The client's current estimate of a link's world pose (false when unknown).
   std::function<bool(const std::string& link, SE3* pose)> link_pose;
+  // A link's index in the model (-1 when there is none of that name).
+  std::function<int(const std::string& link)> frame_index;
+  std::string lcm_url;  // the bus the client is on (a device may watch it or send commands)
 };
 
 struct DeviceEntry {

@@ -23,6 +23,10 @@ struct DeviceReading {
   bool has_orientation = false;
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   int buttons = 0;                     // bit 0: the main button
+  // Pull from this link point instead of the scene's (-1: the scene's pull
+  // link and point). A device that can pick a link (the browser) sets it.
+  int attach_frame = -1;
+  Vector3 attach_point = Vector3::Zero();  // in the link frame, m
 };
 
 class HapticDevice {

@@ -7,7 +7,19 @@
 namespace igms {
 
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
-    : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame) {}
+    : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),
+      attach_point_(r.scene.pull.point) {}
+
+void ClientInteraction::setAttachment(int frame, const Vector3& point) {
+  if (pull_frame_ < 0) return;  // pull is off in this scene
+  const int f = frame >= 0 && frame < static_cast<int>(model_.frames.size()) ? frame : pull_frame_;
+  const Vector3 p = frame >= 0 ? point : scene_.pull.point;
+  if (f == attach_frame_ && p == attach_point_) return;
+  attach_frame_ = f;
+  attach_point_ = p;
+  last_attach_time_ = -1.0;  // a new point: its velocity starts afresh
+  attach_velocity_.setZero();
+}
 
 void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons,
                                   haptic_input_t& msg) {
@@ -28,8 +40,8 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   msg.tip_radius = scene_.push.tip_radius;
   msg.buttons = buttons;
   msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model_.frames[static_cast<size_t>(contact_frame_)].name : "";
-  msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(pull_frame_)].name : "";
-  for (int i = 0; i < 3; ++i) msg.attach_point[i] = scene_.pull.point[i];
+  msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(attach_frame_)].name : "";
+  for (int i = 0; i < 3; ++i) msg.attach_point[i] = attach_point_[i];
 }
 
 Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
@@ -38,7 +50,7 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   contact_ = TipContact{};
   contact_frame_ = -1;
   if (pull_frame_ >= 0) {
-    const Vector3 x = links[static_cast<size_t>(pull_frame_)].act(scene_.pull.point);
+    const Vector3 x = links[static_cast<size_t>(attach_frame_)].act(attach_point_);
     // The attachment's velocity from the estimate's own time base (a held
     // fallback cycle must not read as "stopped"), low-passed at 10 ms as
     // haptic loops do with differenced positions.

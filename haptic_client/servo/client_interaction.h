@@ -17,6 +17,8 @@ class ClientInteraction {
  public:
   explicit ClientInteraction(const ResolvedScene& resolved);
 
+  // Pull from this link point (frame -1: the scene's pull link and point).
+  void setAttachment(int frame, const Vector3& point);
   // Step 2 of a cycle: the input (mode, tip, the link the last cycle found
   // touched, attachment) from the device.
   void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, haptic_input_t& msg);
@@ -35,6 +37,8 @@ class ClientInteraction {
   const Model& model_;
   const Scene& scene_;
   const int pull_frame_;  // -1: pull is off
+  int attach_frame_;      // where the spring pulls: the scene's pull link, or the device's pick
+  Vector3 attach_point_;
   StartupGuard guard_;
   LossRamp ramp_;
   ResyncBlend blend_;

@@ -42,6 +42,7 @@ void ServoLoop::cycle(int64_t k, double cycle_start) {
   const Vector3 tip = map_.toScene(reading.position);
   const Vector3 tip_velocity = map_.scale * reading.velocity;
   // 2. The input: pull while the button is held, push when the tip touches a link.
+  interaction_.setAttachment(reading.attach_frame, reading.attach_point);
   interaction_.fillInput(tip, tip_velocity, reading.buttons, msg_);
   msg_.utime = wallMicros();
   msg_.seq = k;

@@ -55,11 +55,13 @@ void StatePublisher::checkCollisions(const Snapshot& s) {
   if (world_.empty()) {
     msg_.min_obstacle_distance = 1e9;
     msg_.in_collision = false;
+    msg_.closest_link = -1;
     return;
   }
   const CollisionReport c = world_.check(s.link_poses);
   msg_.min_obstacle_distance = c.min_distance;
   msg_.in_collision = c.in_collision;
+  msg_.closest_link = c.closest_frame;
   stats_.min_distance = std::min(stats_.min_distance, c.min_distance);
   if (!c.in_collision) return;
   ++stats_.collisions;

@@ -113,6 +113,7 @@ CollisionReport CollisionWorld::check(const std::vector<SE3>& poses) {
     if (result.min_distance < out.min_distance) {
       out.min_distance = result.min_distance;
       out.closest_link = impl_->model.frames[static_cast<size_t>(l.frame)].name;
+      out.closest_frame = l.frame;
       out.closest_obstacle = o.name;
     }
   }

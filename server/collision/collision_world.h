@@ -15,6 +15,7 @@ struct CollisionReport {
   bool in_collision = false;
   double min_distance = 1e9;  // m, 0 when in collision (the depth is not computed: EPA costs 5-10x)
   std::string closest_link, closest_obstacle;
+  int closest_frame = -1;      // Model frame index of closest_link
 };
 
 class CollisionWorld {

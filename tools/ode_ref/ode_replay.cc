@@ -38,6 +38,7 @@ robot_state_t stateMessage(const Model& m, Data& d, int64_t seq, double t, const
   }
   s.min_obstacle_distance = 1e9;  // not computed for the reference run
   s.in_collision = false;
+  s.closest_link = -1;
   return s;
 }
 

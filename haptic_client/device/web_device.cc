@@ -1,0 +1,197 @@
+#include "haptic_client/device/web_device.h"
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <regex>
+
+#include "core/realtime/clock.h"
+#include "igms/command_t.hpp"
+#include "channels.h"
+#include "web/bus_feed.h"
+#include "web/page_files.h"
+#include "web/view_service.h"
+
+namespace igms {
+namespace {
+
+using nlohmann::json;
+using web::PageMessage;
+
+std::string newToken() {
+  std::random_device rd;
+  char buf[33];
+  std::snprintf(buf, sizeof buf, "%08x%08x%08x%08x", rd(), rd(), rd(), rd());
+  return buf;
+}
+
+bool vector3(const json& m, const char* key, double limit, Vector3* out) {
+  if (!m.contains(key) || !m[key].is_array() || m[key].size() != 3) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (!m[key][static_cast<size_t>(i)].is_number()) return false;
+    (*out)[i] = m[key][static_cast<size_t>(i)].get<double>();
+  }
+  return out->allFinite() && out->norm() <= limit;
+}
+
+bool flag(const json& m, const char* key, bool* out) {
+  if (!m.contains(key)) return true;  // optional, false
+  if (!m[key].is_boolean()) return false;
+  *out = m[key].get<bool>();
+  return true;
+}
+
+}  // namespace
+
+// The page side: the view service, the bus feed, and the page's messages.
+class WebDevice::Page {
+ public:
+  Page(WebDevice& device, const web::WebServerOptions& options, const DeviceContext& context)
+      : device_(device), context_(context), view_(options, 60.0), feed_(context.lcm_url, view_.bus()) {
+    view_.onPageMessage([this](int, bool authorized, const json& m) { return handle(authorized, m); });
+    view_.frameExtra([this] { return extra(); });
+    view_.statusExtra([this] {
+      return ",\"device_targets\":" + std::to_string(targets_.load()) +
+             ",\"commands_sent\":" + std::to_string(commands_.load());
+    });
+    view_.start();
+  }
+  std::string url() const { return view_.url(true); }
+
+ private:
+  PageMessage handle(bool authorized, const json& m) {
+    const std::string type = m["type"];
+    if (type != "device" && type != "command") return PageMessage::Malformed;
+    if (!authorized) return PageMessage::NeedsToken;
+    return type == "device" ? target(m) : command(m);
+  }
+
+  // {"type":"device","seq":N,"tip":[x,y,z],"active":b,"pull":b,"jump":b,
+  //  "attach_link":"name","attach_point":[x,y,z]}
+  PageMessage target(const json& m) {
+    Target t;
+    if (!m.contains("seq") || !m["seq"].is_number_integer()) return PageMessage::Malformed;
+    t.seq = m["seq"].get<int64_t>();
+    if (t.seq <= last_seq_) return PageMessage::Malformed;  // stale or replayed
+    if (!vector3(m, "tip", 50.0, &t.tip)) return PageMessage::Malformed;
+    if (!flag(m, "active", &t.active) || !flag(m, "pull", &t.pull) || !flag(m, "jump", &t.jump))
+      return PageMessage::Malformed;
+    if (t.pull) {
+      if (!m.contains("attach_link") || !m["attach_link"].is_string()) return PageMessage::Malformed;
+      const std::string link = m["attach_link"];
+      if (link.size() > 200 || (t.attach_frame = context_.frame_index(link)) < 0) return PageMessage::Malformed;
+      if (!vector3(m, "attach_point", 10.0, &t.attach_point)) return PageMessage::Malformed;
+    }
+    last_seq_ = t.seq;
+    device_.target_.write(t);
+    ++targets_;
+    return PageMessage::Handled;
+  }
+
+  // {"type":"command","kind":"pause"|"resume"|"step"|"reset"|"save","file":"name.yaml"}
+  PageMessage command(const json& m) {
+    if (!m.contains("kind") || !m["kind"].is_string()) return PageMessage::Malformed;
+    const std::string kind = m["kind"];
+    command_t c{};
+    c.utime = wallMicros();
+    c.seq = ++command_seq_;
+    c.nvalues = 0;
+    c.trajectory = {};
+    if (kind == "pause") c.kind = command_t::PAUSE;
+    else if (kind == "resume") c.kind = command_t::START;
+    else if (kind == "step") c.kind = command_t::STEP;
+    else if (kind == "reset") c.kind = command_t::RESET;
+    else if (kind == "save") {
+      // A plain file name in the server's folder: no paths from a page.
+      static const std::regex kName("[A-Za-z0-9_.-]{1,64}\\.yaml");
+      const std::string file = m.contains("file") && m["file"].is_string() ? m["file"].get<std::string>()
+                                                                             : "edited_trajectory.yaml";
+      if (!std::regex_match(file, kName) || file.find("..") != std::string::npos) return PageMessage::Malformed;
+      c.kind = command_t::SAVE_TRAJECTORY;
+      c.text = file;
+    } else {
+      return PageMessage::Malformed;
+    }
+    feed_.publish(channels::kCommand, c);
+    ++commands_;
+    return PageMessage::Handled;
+  }
+
+  std::string extra() {
+    Vector3 tip, force;
+    device_.tip_shown_.read(&tip);
+    device_.force_shown_.read(&force);
+    Target t;
+    device_.target_.read(&t);
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  ",\"device\":{\"tip\":[%.5f,%.5f,%.5f],\"force\":[%.4f,%.4f,%.4f],\"active\":%s,\"pull\":%s,"
+                  "\"limit\":%.3g}",
+                  tip.x(), tip.y(), tip.z(), force.x(), force.y(), force.z(), t.active ? "true" : "false",
+                  t.pull ? "true" : "false", device_.limits_.max_force);
+    return buf;
+  }
+
+  WebDevice& device_;
+  DeviceContext context_;
+  web::ViewService view_;
+  web::BusFeed feed_;
+  int64_t last_seq_ = 0;  // the web server's thread only
+  int64_t command_seq_ = 0;
+  std::atomic<int64_t> targets_{0}, commands_{0};
+};
+
+WebDevice::WebDevice(const std::string& args, const DeviceContext& context)
+    : map_(context.map), follower_(map_.toScene(Vector3::Zero()) + Vector3(0.0, 0.0, 1.5)) {
+  web::WebServerOptions options;
+  options.port = kDefaultPort;
+  options.page_dir = web::defaultPageDir();
+  options.three_dir = web::kDebianThreeDir;
+  options.token = newToken();
+  static const std::regex kArgs("(?:([0-9.]+):)?([0-9]{1,5})");
+  std::smatch match;
+  if (!args.empty()) {
+    if (!std::regex_match(args, match, kArgs) || std::stoi(match[2]) > 65535)
+      throw std::runtime_error("--device web:" + args + ": expected web, web:PORT or web:ADDR:PORT");
+    if (match[1].matched) options.bind = match[1];
+    options.port = std::stoi(match[2]);
+  }
+  // Parked above the scene until the first drag, and after each.
+  target_.write(Target{});
+  tip_shown_.write(follower_.position());
+  force_shown_.write(Vector3::Zero());
+  page_ = std::make_unique<Page>(*this, options, context);
+  name_ = "web:" + options.bind + ":" + std::to_string(options.port);
+  std::printf("%s\n", page_->url().c_str());
+  std::fflush(stdout);
+}
+
+WebDevice::~WebDevice() = default;
+
+DeviceReading WebDevice::read(double t) {
+  target_.read(&current_);
+  const double dt = last_t_ < 0 ? 0.0 : std::clamp(t - last_t_, 0.0, 0.01);
+  last_t_ = t;
+  const Vector3& x = follower_.update(current_, dt, last_force_);
+  tip_shown_.write(x);
+  DeviceReading r;
+  r.position = map_.toDevice(x);
+  r.velocity = follower_.velocity() / map_.scale;
+  r.buttons = current_.pull ? 1 : 0;
+  r.attach_frame = current_.pull ? current_.attach_frame : -1;
+  r.attach_point = current_.attach_point;
+  return r;
+}
+
+void WebDevice::write(const Vector3& force) {
+  last_force_ = force;
+  force_shown_.write(force);
+}
+
+IGMS_REGISTER_DEVICE((DeviceEntry{
+    "web", "web[:[ADDR:]PORT]   the browser page and its mouse (default 127.0.0.1:8081; the URL with the token is printed)",
+    [](const std::string& args, const DeviceContext& c) -> std::unique_ptr<HapticDevice> {
+      return std::make_unique<WebDevice>(args, c);
+    }}));
+
+}  // namespace igms

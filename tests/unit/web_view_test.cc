@@ -1,0 +1,333 @@
+// The browser view's parts without a browser: mesh paths resolved, URDF
+// visuals parsed, the scene described for the page, the bus seen as frames
+// (undecodable messages counted, lost peers flagged), and the web server's
+// routes (no path outside the page, only registered meshes, the token) over
+// real sockets on 127.0.0.1.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <websocketpp/client.hpp>
+#include <websocketpp/config/asio_no_tls_client.hpp>
+
+#include "channels.h"
+#include "core/model_io/resource_path.h"
+#include "core/model_io/urdf_loader.h"
+#include "igms/robot_state_t.hpp"
+#include "igms/server_status_t.hpp"
+#include "web/bus_view.h"
+#include "web/session_scene.h"
+#include "web/web_server.h"
+
+namespace fs = std::filesystem;
+namespace {
+
+using igms::resolveResource;
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("igms_web_view_test_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+// A one-joint arm whose link1 has a mesh visual in a package, a coloured box
+// visual and a cylinder collision; link2 has no geometry.
+constexpr const char* kArm = R"(<robot name="arm">
+  <material name="red"><color rgba="0.9 0.1 0.1 1"/></material>
+  <link name="base"/>
+  <link name="link1">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><mesh filename="package://armpkg/meshes/link1.stl" scale="0.001 0.001 0.001"/></geometry></visual>
+    <visual><origin xyz="0 0 0.1"/><geometry><box size="0.1 0.2 0.3"/></geometry><material name="red"/></visual>
+    <collision><geometry><cylinder radius="0.05" length="0.4"/></geometry></collision>
+  </link>
+  <link name="link2">
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="link1"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+  <joint name="j2" type="revolute"><parent link="link1"/><child link="link2"/><origin xyz="0 0 0.4"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="10" velocity="3"/></joint>
+</robot>)";
+
+TEST(ResourcePath, PackageFileAndRelative) {
+  const fs::path d = tempDir("resource");
+  write(d / "ws/armpkg/meshes/link1.stl", "solid x\nendsolid x\n");
+  write(d / "ws/armpkg/urdf/arm.urdf", kArm);
+  const std::string urdf = (d / "ws/armpkg/urdf/arm.urdf").string();
+  // Found from the description's ancestors without any environment.
+  unsetenv("IGMS_PACKAGE_PATH");
+  unsetenv("ROS_PACKAGE_PATH");
+  EXPECT_EQ(resolveResource("package://armpkg/meshes/link1.stl", urdf).path,
+            fs::canonical(d / "ws/armpkg/meshes/link1.stl").string());
+  // Relative to the description's folder, and file://.
+  EXPECT_EQ(resolveResource("../meshes/link1.stl", urdf).path, fs::canonical(d / "ws/armpkg/meshes/link1.stl").string());
+  EXPECT_EQ(resolveResource("file://" + (d / "ws/armpkg/meshes/link1.stl").string(), urdf).path,
+            fs::canonical(d / "ws/armpkg/meshes/link1.stl").string());
+  // Missing: no path, and the candidates tried are named.
+  const igms::ResourceResolution missing = resolveResource("package://nopkg/a.stl", urdf);
+  EXPECT_TRUE(missing.path.empty());
+  EXPECT_FALSE(missing.tried.empty());
+  // IGMS_PACKAGE_PATH comes first.
+  write(d / "other/armpkg/meshes/link1.stl", "solid y\nendsolid y\n");
+  setenv("IGMS_PACKAGE_PATH", (d / "other").c_str(), 1);
+  EXPECT_EQ(resolveResource("package://armpkg/meshes/link1.stl", urdf).path,
+            fs::canonical(d / "other/armpkg/meshes/link1.stl").string());
+  unsetenv("IGMS_PACKAGE_PATH");
+}
+
+TEST(UrdfVisuals, ShapesColoursAndMeshes) {
+  const fs::path d = tempDir("visuals");
+  write(d / "arm.urdf", kArm);
+  const igms::Model m = igms::loadUrdfModel((d / "arm.urdf").string());
+  const igms::Frame& link1 = m.frame(m.frameIndex("link1"));
+  ASSERT_EQ(link1.visuals.size(), 2u);
+  EXPECT_EQ(link1.visuals[0].geometry.kind, igms::CollisionShape::Kind::Mesh);
+  EXPECT_EQ(link1.visuals[0].geometry.mesh_file, "package://armpkg/meshes/link1.stl");
+  EXPECT_NEAR(link1.visuals[0].geometry.mesh_scale.x(), 0.001, 1e-12);
+  EXPECT_FALSE(link1.visuals[0].has_color);
+  EXPECT_EQ(link1.visuals[1].geometry.kind, igms::CollisionShape::Kind::Box);
+  EXPECT_TRUE(link1.visuals[1].has_color);
+  EXPECT_NEAR(link1.visuals[1].rgba[0], 0.9, 1e-6);  // urdfdom keeps colours as float
+  EXPECT_NEAR(link1.visuals[1].geometry.placement.p.z(), 0.1, 1e-12);
+  EXPECT_EQ(link1.collisions.size(), 1u);
+  EXPECT_TRUE(m.frame(m.frameIndex("link2")).visuals.empty());
+}
+
+igms::session_info_t sessionFor(const fs::path& scene) {
+  igms::session_info_t info{};
+  info.session_token = 42;
+  info.scene_path = scene.string();
+  std::ifstream in(scene);
+  info.scene_text.assign(std::istreambuf_iterator<char>(in), {});
+  info.model_hash = "h";
+  info.clock = "realtime";
+  info.dt = 0.001;
+  return info;
+}
+
+TEST(SessionScene, DescribesLinksObstaclesAndPaths) {
+  const std::string source = std::getenv("IGMS_SOURCE_DIR") ? std::getenv("IGMS_SOURCE_DIR") : ".";
+  std::vector<std::string> served;
+  const igms::web::SessionScene s = igms::web::describeSession(
+      sessionFor(fs::path(source) / "scenes/puma_obstacle.yaml"),
+      [&](const std::string& f) { served.push_back(f); return "/mesh/0/x"; });
+  ASSERT_EQ(s.error, "");
+  const nlohmann::json h = nlohmann::json::parse(s.hello_json);
+  EXPECT_EQ(h["type"], "hello");
+  EXPECT_EQ(h["links"].size(), 8u);
+  EXPECT_EQ(h["obstacles"].size(), 2u);
+  EXPECT_EQ(h["nominal_path"].size(), 201u);
+  EXPECT_NEAR(h["nominal_end"].get<double>(), 4.0, 1e-9);
+  EXPECT_EQ(h["links"][static_cast<size_t>(h["traced_link"].get<int>())]["name"], "ee_link");
+  EXPECT_EQ(h["links"][2]["geometry"], "collision");  // the PUMA has collision shapes only
+  EXPECT_EQ(h["links"][2]["shapes"][0]["kind"], "cylinder");
+  EXPECT_TRUE(served.empty());
+  EXPECT_NEAR(h["push"]["k_p"].get<double>(), 2000.0, 1e-9);
+}
+
+TEST(SessionScene, MeshesAreServedAndMissingOnesNamed) {
+  const fs::path d = tempDir("scene");
+  write(d / "armpkg/urdf/arm.urdf", kArm);
+  write(d / "armpkg/meshes/link1.stl", "solid x\nendsolid x\n");
+  write(d / "arm.yaml", "name: arm\nrobot: {model: armpkg/urdf/arm.urdf}\n");
+  std::vector<std::string> served;
+  igms::web::SessionScene s = igms::web::describeSession(
+      sessionFor(d / "arm.yaml"), [&](const std::string& f) { served.push_back(f); return "/mesh/7/link1.stl"; });
+  ASSERT_EQ(s.error, "");
+  nlohmann::json h = nlohmann::json::parse(s.hello_json);
+  const nlohmann::json& link1 = h["links"][1];
+  EXPECT_EQ(link1["geometry"], "visual");
+  EXPECT_EQ(link1["shapes"][0]["url"], "/mesh/7/link1.stl");
+  EXPECT_NEAR(link1["shapes"][1]["rgba"][0].get<double>(), 0.9, 1e-6);
+  EXPECT_EQ(h["links"][2]["geometry"], "none");
+  EXPECT_EQ(h["links"][2]["parent"], 1);  // drawn as a stick from link1
+  ASSERT_EQ(served.size(), 1u);
+  EXPECT_EQ(served[0], fs::canonical(d / "armpkg/meshes/link1.stl").string());
+  // Without the mesh: the scene still loads; the page is told what is missing.
+  fs::remove(d / "armpkg/meshes/link1.stl");
+  s = igms::web::describeSession(sessionFor(d / "arm.yaml"), [](const std::string&) { return "/x"; });
+  h = nlohmann::json::parse(s.hello_json);
+  EXPECT_EQ(h["links"][1]["shapes"][0]["missing"], "package://armpkg/meshes/link1.stl");
+  // A scene that does not load: an error in the hello, no exception.
+  s = igms::web::describeSession(sessionFor(d / "nothing.yaml"), [](const std::string&) { return "/x"; });
+  EXPECT_NE(s.error, "");
+}
+
+std::vector<uint8_t> encodedState(int64_t seq, int nlinks) {
+  igms::robot_state_t m{};
+  m.seq = seq;
+  m.sim_time = 0.001 * static_cast<double>(seq);
+  m.nq = m.nv = 0;
+  m.nlinks = nlinks;
+  m.link_poses.assign(static_cast<size_t>(nlinks), std::vector<double>{1, 2, 3, 1, 0, 0, 0});
+  m.closest_link = -1;
+  std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  return buf;
+}
+
+TEST(BusView, FramesFromTheNewestStateAndLostPeers) {
+  igms::web::BusView view;
+  EXPECT_EQ(view.frameJson(0.0, ""), "");  // nothing yet: no frame
+  const std::vector<uint8_t> a = encodedState(5, 3);
+  view.handle(igms::channels::kRobotState, a.data(), a.size(), 10.0);
+  const std::vector<uint8_t> b = encodedState(6, 3);
+  view.handle(igms::channels::kRobotState, b.data(), b.size(), 10.001);
+  const nlohmann::json f = nlohmann::json::parse(view.frameJson(10.1, ",\"extra\":1"));
+  EXPECT_EQ(f["type"], "frame");
+  EXPECT_EQ(f["seq"], 6);
+  ASSERT_EQ(f["poses"].size(), 3u);
+  EXPECT_EQ(f["poses"][2][0], 1);
+  EXPECT_EQ(f["extra"], 1);
+  EXPECT_FALSE(f["server_lost"].get<bool>());
+  EXPECT_TRUE(nlohmann::json::parse(view.frameJson(11.5, ""))["server_lost"].get<bool>());
+  // Garbage, a truncated state, a zero-length string: counted, never fatal, the last good state kept.
+  const std::vector<uint8_t> junk(40, 0xff);
+  view.handle(igms::channels::kRobotState, junk.data(), junk.size(), 12.0);
+  view.handle(igms::channels::kRobotState, b.data(), b.size() / 2, 12.0);
+  igms::server_status_t st{};
+  st.state = "running";
+  std::vector<uint8_t> sb(static_cast<size_t>(st.getEncodedSize()));
+  st.encode(sb.data(), 0, static_cast<int>(sb.size()));
+  sb[32] = sb[33] = sb[34] = sb[35] = 0;  // the scene string's length: 0 (LCM 1.3.1 throws on it)
+  view.handle(igms::channels::kServerStatus, sb.data(), sb.size(), 12.0);
+  EXPECT_EQ(view.undecodable(), 3);
+  EXPECT_EQ(nlohmann::json::parse(view.frameJson(12.0, ""))["seq"], 6);
+}
+
+// --- the web server over real sockets ---
+
+std::string httpGet(int port, const std::string& target) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    close(fd);
+    return "";
+  }
+  const std::string request = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  if (send(fd, request.data(), request.size(), 0) < 0) return "";
+  std::string response;
+  char buf[4096];
+  for (ssize_t n; (n = recv(fd, buf, sizeof buf, 0)) > 0;) response.append(buf, static_cast<size_t>(n));
+  close(fd);
+  return response;
+}
+
+int statusCode(const std::string& response) {
+  return response.size() > 12 ? std::atoi(response.substr(9, 3).c_str()) : 0;
+}
+
+// Opens /ws (with `query`), sends `text`, waits for the server's first
+// message; returns what the server's open handler saw.
+struct WsResult {
+  bool opened = false;
+  std::string first_message;
+};
+
+WsResult wsSession(int port, const std::string& query, const std::string& text) {
+  using Client = websocketpp::client<websocketpp::config::asio_client>;
+  Client c;
+  c.clear_access_channels(websocketpp::log::alevel::all);
+  c.clear_error_channels(websocketpp::log::elevel::all);
+  c.init_asio();
+  WsResult r;
+  c.set_open_handler([&](websocketpp::connection_hdl h) {
+    r.opened = true;
+    websocketpp::lib::error_code ec;
+    c.send(h, text, websocketpp::frame::opcode::text, ec);
+  });
+  c.set_message_handler([&](websocketpp::connection_hdl h, Client::message_ptr m) {
+    if (r.first_message.empty()) r.first_message = m->get_payload();
+    websocketpp::lib::error_code ec;
+    c.close(h, websocketpp::close::status::normal, "", ec);
+  });
+  websocketpp::lib::error_code ec;
+  Client::connection_ptr con = c.get_connection("ws://127.0.0.1:" + std::to_string(port) + "/ws" + query, ec);
+  if (ec) return r;
+  c.connect(con);
+  std::thread t([&] { c.run(); });
+  for (int i = 0; i < 200 && r.first_message.empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  c.stop();
+  t.join();
+  return r;
+}
+
+TEST(WebServer, RoutesTokenAndCounters) {
+  const fs::path d = tempDir("server");
+  write(d / "page/index.html", "<html>igms page</html>");
+  write(d / "page/main.js", "export {};");
+  write(d / "three/build/three.module.js", "export const REVISION = '111';");
+  write(d / "secret.txt", "not for pages");
+  write(d / "meshes/link1.stl", "solid x\nendsolid x\n");
+  igms::web::WebServerOptions o;
+  o.page_dir = (d / "page").string();
+  o.three_dir = (d / "three").string();
+  o.token = "abc123";
+  igms::web::WebServer server(o);
+  std::atomic<int> opened_with_token{0}, opened_without{0}, messages{0};
+  server.onOpen([&](int client, bool authorized) {
+    (authorized ? opened_with_token : opened_without)++;
+    server.send(client, authorized ? "device" : "viewer");
+  });
+  server.onMessage([&](int, bool, const std::string&) { ++messages; });
+  server.start();
+  const int port = server.port();
+  ASSERT_GT(port, 0);
+  EXPECT_EQ(server.url(true), "http://127.0.0.1:" + std::to_string(port) + "/?token=abc123");
+
+  std::string r = httpGet(port, "/");
+  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_NE(r.find("igms page"), std::string::npos);
+  r = httpGet(port, "/igms/main.js");
+  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_NE(r.find("application/javascript"), std::string::npos);  // module scripts need it
+  EXPECT_EQ(statusCode(httpGet(port, "/three/build/three.module.js")), 200);
+  // Nothing outside the page and three.js, however the path is spelled.
+  EXPECT_EQ(statusCode(httpGet(port, "/igms/../secret.txt")), 404);
+  EXPECT_EQ(statusCode(httpGet(port, "/igms/%2e%2e/secret.txt")), 404);
+  EXPECT_EQ(statusCode(httpGet(port, "/three/../../secret.txt")), 404);
+  EXPECT_EQ(statusCode(httpGet(port, "/etc/passwd")), 404);
+  // Meshes only once registered, and only that file.
+  EXPECT_EQ(statusCode(httpGet(port, "/mesh/0/link1.stl")), 404);
+  const std::string mesh = server.addFile((d / "meshes/link1.stl").string());
+  EXPECT_EQ(server.addFile((d / "meshes/link1.stl").string()), mesh);  // once per file
+  r = httpGet(port, mesh);
+  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_NE(r.find("solid x"), std::string::npos);
+
+  // The token decides the role; every message is counted.
+  EXPECT_EQ(wsSession(port, "?token=abc123", "{}").first_message, "device");
+  EXPECT_EQ(wsSession(port, "?token=wrong", "{}").first_message, "viewer");
+  EXPECT_EQ(wsSession(port, "", "{}").first_message, "viewer");
+  EXPECT_EQ(opened_with_token.load(), 1);
+  EXPECT_EQ(opened_without.load(), 2);
+  for (int i = 0; i < 100 && messages.load() < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(messages.load(), 3);
+  // Over the size limit: dropped (the connection closes), counted, the server goes on.
+  wsSession(port, "", std::string(64 * 1024, 'x'));
+  const nlohmann::json s = nlohmann::json::parse(httpGet(port, "/status.json").substr(
+      httpGet(port, "/status.json").find("\r\n\r\n") + 4));
+  EXPECT_GE(s["http_not_found"].get<int>(), 5);
+  EXPECT_EQ(s["messages"].get<int>(), 3);
+  EXPECT_EQ(s["rejected_malformed"].get<int>(), 1);
+  EXPECT_EQ(statusCode(httpGet(port, "/")), 200);
+}
+
+}  // namespace

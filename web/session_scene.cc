@@ -1,0 +1,145 @@
+#include "web/session_scene.h"
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/kinematics/forward_kinematics.h"
+#include "core/model_io/resource_path.h"
+#include "core/scene/resolved_scene.h"
+#include "core/simulation/simulation.h"
+
+namespace igms::web {
+namespace {
+
+using nlohmann::json;
+
+json vec(const Vector3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json pose(const SE3& X) {
+  Eigen::Quaterniond q(X.R);
+  return {{"p", vec(X.p)}, {"q", json::array({q.w(), q.x(), q.y(), q.z()})}};
+}
+
+json shape(const CollisionShape& s, const std::string& model_file,
+           const std::function<std::string(const std::string&)>& serve) {
+  json j = pose(s.placement);
+  switch (s.kind) {
+    case CollisionShape::Kind::Box: j["kind"] = "box"; j["size"] = vec(s.size); break;
+    case CollisionShape::Kind::Cylinder: j["kind"] = "cylinder"; j["size"] = vec(s.size); break;
+    case CollisionShape::Kind::Sphere: j["kind"] = "sphere"; j["size"] = vec(s.size); break;
+    case CollisionShape::Kind::Mesh: {
+      j["kind"] = "mesh";
+      j["scale"] = vec(s.mesh_scale);
+      const ResourceResolution r = resolveResource(s.mesh_file, model_file);
+      if (r.path.empty()) {
+        j["missing"] = s.mesh_file;  // the page draws a marker and the HUD names it
+      } else {
+        j["url"] = serve(r.path);
+      }
+      break;
+    }
+  }
+  return j;
+}
+
+// The frame a stick to this link starts from: its parent body's frame, or
+// its own body's frame for a link fixed to a body.
+int stickParent(const Model& m, int f) {
+  const Frame& frame = m.frame(f);
+  if (frame.body < 0) return frame.name == m.root_link ? -1 : m.frameIndex(m.root_link);
+  const auto b = static_cast<size_t>(frame.body);
+  if (m.body_name[b] != frame.name) return m.frameIndex(m.body_name[b]);
+  const int pb = m.parent[b];
+  return pb >= 0 ? m.frameIndex(m.body_name[static_cast<size_t>(pb)]) : m.frameIndex(m.root_link);
+}
+
+json links(const Model& m, const std::function<std::string(const std::string&)>& serve) {
+  json out = json::array();
+  for (int f = 0; f < static_cast<int>(m.frames.size()); ++f) {
+    const Frame& frame = m.frame(f);
+    json l = {{"name", frame.name}, {"parent", stickParent(m, f)}};
+    json shapes = json::array();
+    if (!frame.visuals.empty()) {
+      for (const VisualShape& v : frame.visuals) {
+        json s = shape(v.geometry, m.source, serve);
+        if (v.has_color) s["rgba"] = json::array({v.rgba[0], v.rgba[1], v.rgba[2], v.rgba[3]});
+        shapes.push_back(s);
+      }
+      l["geometry"] = "visual";
+    } else if (!frame.collisions.empty()) {
+      for (const CollisionShape& c : frame.collisions) shapes.push_back(shape(c, m.source, serve));
+      l["geometry"] = "collision";
+    } else {
+      l["geometry"] = "none";
+    }
+    l["shapes"] = shapes;
+    out.push_back(l);
+  }
+  return out;
+}
+
+// The nominal path of the traced link: forward kinematics along the nominal
+// joint trajectory, 200 samples evenly over [0, *end].
+json nominalPath(const ResolvedScene& r, int traced, double* end_time) {
+  json path = json::array();
+  *end_time = 0.0;
+  Simulation sim(r);
+  if (!sim.hasTrajectory() || traced < 0) return path;
+  const Model& m = *r.model;
+  Data data(m);
+  VectorX q(m.nq), qd(m.nv), qdd(m.nv);
+  const double end = *end_time = sim.nominal().endTime();
+  constexpr int kSamples = 200;
+  for (int k = 0; k <= kSamples; ++k) {
+    sim.nominal().evaluate(end * k / kSamples, q, qd, qdd);
+    forwardKinematics(m, data, q);
+    path.push_back(vec(framePose(m, data, traced).p));
+  }
+  return path;
+}
+
+}  // namespace
+
+SessionScene describeSession(const session_info_t& info,
+                             const std::function<std::string(const std::string&)>& serve) {
+  SessionScene out;
+  out.key = info.scene_path + "|" + info.model_hash + "|" + std::to_string(info.session_token);
+  json hello = {{"type", "hello"},      {"scene_path", info.scene_path}, {"clock", info.clock},
+                {"dt", info.dt},        {"build", info.build_version},    {"links", json::array()},
+                {"obstacles", json::array()}, {"nominal_path", json::array()}, {"error", ""}};
+  try {
+    std::string dir = std::filesystem::path(info.scene_path).parent_path().string();
+    if (dir.empty()) dir = ".";
+    const ResolvedScene r = resolveScene(parseScene(info.scene_text, info.scene_path, dir));
+    const Model& m = *r.model;
+    const Scene& s = r.scene;
+    hello["scene"] = s.name;
+    hello["links"] = links(m, serve);
+    json obstacles = json::array();
+    for (const Obstacle& o : s.obstacles) {
+      json j = shape(o.shape, m.source, serve);
+      j["name"] = o.name;
+      obstacles.push_back(j);
+    }
+    hello["obstacles"] = obstacles;
+    int traced = r.pull_frame;
+    if (s.trajectory.kind == TrajectorySpec::Kind::CartesianLine) traced = m.frameIndex(s.trajectory.frame);
+    if (traced < 0) traced = static_cast<int>(m.frames.size()) - 1;
+    hello["traced_link"] = traced;
+    double nominal_end = 0.0;
+    hello["nominal_path"] = nominalPath(r, traced, &nominal_end);
+    hello["nominal_end"] = nominal_end;
+    hello["push"] = {{"enabled", s.push.enabled}, {"k_p", s.push.k_p}, {"tip_radius", s.push.tip_radius},
+                     {"max_force", s.push.max_force}};
+    hello["pull"] = {{"enabled", s.pull.enabled}, {"k", s.pull.k}, {"b", s.pull.b},
+                     {"link", r.pull_frame}, {"point", vec(s.pull.point)}};
+    out.nlinks = static_cast<int>(m.frames.size());
+  } catch (const std::exception& e) {
+    out.error = e.what();
+    hello["error"] = out.error;
+  }
+  out.hello_json = hello.dump();
+  return out;
+}
+
+}  // namespace igms::web

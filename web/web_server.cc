@@ -1,0 +1,276 @@
+#include "web/web_server.h"
+
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <websocketpp/config/asio_no_tls.hpp>
+#include <websocketpp/server.hpp>
+
+namespace igms::web {
+namespace {
+
+using Server = websocketpp::server<websocketpp::config::asio>;
+using Handle = websocketpp::connection_hdl;
+constexpr size_t kMaxMessageBytes = 16 * 1024;  // a page's messages are small; more is malformed
+
+bool readFile(const std::string& path, std::string* out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream s;
+  s << in.rdbuf();
+  *out = s.str();
+  return true;
+}
+
+std::string mimeOf(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  const std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  if (ext == "html") return "text/html; charset=utf-8";
+  if (ext == "js") return "application/javascript";  // module scripts need a JavaScript type
+  if (ext == "css") return "text/css";
+  if (ext == "json") return "application/json";
+  if (ext == "dae") return "model/vnd.collada+xml";
+  if (ext == "png") return "image/png";
+  if (ext == "jpg" || ext == "jpeg") return "image/jpeg";
+  return "application/octet-stream";
+}
+
+// A path from a request may not climb out of its folder.
+bool safeRelative(const std::string& p) {
+  if (p.empty() || p[0] == '/' || p.find('\\') != std::string::npos || p.find('\0') != std::string::npos) return false;
+  std::istringstream s(p);
+  std::string part;
+  while (std::getline(s, part, '/'))
+    if (part == ".." || part == ".") return false;
+  return true;
+}
+
+std::string queryValue(const std::string& resource, const std::string& key) {
+  const size_t q = resource.find('?');
+  if (q == std::string::npos) return "";
+  std::istringstream s(resource.substr(q + 1));
+  std::string pair;
+  while (std::getline(s, pair, '&')) {
+    const size_t eq = pair.find('=');
+    if (eq != std::string::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
+  }
+  return "";
+}
+
+// Constant-time comparison: the token is a secret.
+bool sameToken(const std::string& a, const std::string& b) {
+  if (a.size() != b.size() || a.empty()) return false;
+  unsigned char d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return d == 0;
+}
+
+}  // namespace
+
+struct WebServer::Impl {
+  Server server;
+  std::thread thread;
+  struct Connection {
+    int id;
+    bool authorized;
+  };
+  std::map<Handle, Connection, std::owner_less<Handle>> connections;  // server thread only
+  std::map<int, Handle> by_id;                                         // server thread only
+  int next_id = 1;
+  MessageHandler on_message;
+  OpenHandler on_open;
+  std::function<std::string()> status_extra;
+  std::mutex files_mutex;
+  std::map<std::string, std::string> files;  // url path -> file
+  int next_file = 1;
+};
+
+WebServer::WebServer(const WebServerOptions& options) : impl_(std::make_unique<Impl>()), options_(options) {}
+
+WebServer::~WebServer() {
+  if (!impl_->thread.joinable()) return;
+  websocketpp::lib::error_code ec;
+  impl_->server.stop_listening(ec);
+  impl_->server.stop();
+  impl_->thread.join();
+}
+
+void WebServer::onMessage(MessageHandler h) { impl_->on_message = std::move(h); }
+void WebServer::onOpen(OpenHandler h) { impl_->on_open = std::move(h); }
+void WebServer::onStatus(std::function<std::string()> extra) { impl_->status_extra = std::move(extra); }
+
+std::string WebServer::url(bool with_token) const {
+  std::string u = "http://" + options_.bind + ":" + std::to_string(port_) + "/";
+  if (with_token && !options_.token.empty()) u += "?token=" + options_.token;
+  return u;
+}
+
+std::string WebServer::addFile(const std::string& file) {
+  std::lock_guard<std::mutex> lock(impl_->files_mutex);
+  for (const auto& [url, path] : impl_->files)
+    if (path == file) return url;
+  const size_t slash = file.rfind('/');
+  const std::string url =
+      "/mesh/" + std::to_string(impl_->next_file++) + "/" + (slash == std::string::npos ? file : file.substr(slash + 1));
+  impl_->files[url] = file;
+  return url;
+}
+
+void WebServer::send(int client, std::string text) {
+  Impl* impl = impl_.get();
+  auto shared = std::make_shared<std::string>(std::move(text));
+  impl->server.get_io_service().post([this, impl, client, shared] {
+    const auto it = impl->by_id.find(client);
+    if (it == impl->by_id.end()) return;
+    websocketpp::lib::error_code ec;
+    impl->server.send(it->second, *shared, websocketpp::frame::opcode::text, ec);
+    if (!ec) counters_.bytes_sent += static_cast<int64_t>(shared->size());
+  });
+}
+
+void WebServer::sendAll(std::string text) {
+  Impl* impl = impl_.get();
+  auto shared = std::make_shared<std::string>(std::move(text));
+  impl->server.get_io_service().post([this, impl, shared] {
+    for (const auto& [handle, c] : impl->connections) {
+      websocketpp::lib::error_code ec;
+      impl->server.send(handle, *shared, websocketpp::frame::opcode::text, ec);
+      if (!ec) counters_.bytes_sent += static_cast<int64_t>(shared->size());
+    }
+  });
+}
+
+void WebServer::broadcastFrame(std::string text) {
+  Impl* impl = impl_.get();
+  auto shared = std::make_shared<std::string>(std::move(text));
+  impl->server.get_io_service().post([this, impl, shared] {
+    for (const auto& [handle, c] : impl->connections) {
+      websocketpp::lib::error_code ec;
+      Server::connection_ptr con = impl->server.get_con_from_hdl(handle, ec);
+      if (ec) continue;
+      if (con->get_buffered_amount() > shared->size()) {  // the last frame is still on its way
+        ++counters_.frames_skipped;
+        continue;
+      }
+      impl->server.send(handle, *shared, websocketpp::frame::opcode::text, ec);
+      if (ec) continue;
+      ++counters_.frames_sent;
+      counters_.bytes_sent += static_cast<int64_t>(shared->size());
+    }
+  });
+}
+
+void WebServer::start() {
+  Impl* impl = impl_.get();
+  Server& s = impl->server;
+  s.clear_access_channels(websocketpp::log::alevel::all);
+  s.clear_error_channels(websocketpp::log::elevel::all);
+  s.init_asio();
+  s.set_reuse_addr(true);
+  s.set_max_message_size(kMaxMessageBytes);
+
+  s.set_http_handler([this, impl](Handle h) {
+    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
+    ++counters_.http_requests;
+    std::string resource = con->get_resource();
+    const size_t q = resource.find('?');
+    if (q != std::string::npos) resource.resize(q);
+    std::string file, body;
+    if (resource == "/" || resource == "/index.html") {
+      file = options_.page_dir + "/index.html";
+    } else if (resource == "/status.json") {
+      const WebCounters& c = counters_;
+      std::ostringstream o;
+      o << "{\"connections\":" << c.connections << ",\"messages\":" << c.messages
+        << ",\"rejected_malformed\":" << c.rejected_malformed << ",\"rejected_token\":" << c.rejected_token
+        << ",\"frames_sent\":" << c.frames_sent << ",\"frames_skipped\":" << c.frames_skipped
+        << ",\"bytes_sent\":" << c.bytes_sent << ",\"http_requests\":" << c.http_requests
+        << ",\"http_not_found\":" << c.http_not_found;
+      if (impl->status_extra) o << impl->status_extra();
+      o << "}";
+      con->set_status(websocketpp::http::status_code::ok);
+      con->replace_header("Content-Type", "application/json");
+      con->replace_header("Cache-Control", "no-store");
+      con->set_body(o.str());
+      return;
+    } else if (resource.rfind("/igms/", 0) == 0 && safeRelative(resource.substr(6))) {
+      file = options_.page_dir + "/" + resource.substr(6);
+    } else if (resource.rfind("/three/", 0) == 0 && safeRelative(resource.substr(7))) {
+      file = options_.three_dir + "/" + resource.substr(7);
+    } else if (resource.rfind("/mesh/", 0) == 0) {
+      std::lock_guard<std::mutex> lock(impl->files_mutex);
+      const auto it = impl->files.find(resource);
+      if (it != impl->files.end()) file = it->second;
+    }
+    if (file.empty() || !readFile(file, &body)) {
+      ++counters_.http_not_found;
+      con->set_status(websocketpp::http::status_code::not_found);
+      con->replace_header("Content-Type", "text/plain");
+      con->set_body("not found: " + resource + "\n");
+      return;
+    }
+    con->set_status(websocketpp::http::status_code::ok);
+    con->replace_header("Content-Type", mimeOf(file));
+    con->replace_header("Cache-Control", "no-cache");
+    con->set_body(std::move(body));
+  });
+
+  s.set_validate_handler([impl](Handle h) {
+    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
+    const std::string r = con->get_resource();
+    return r == "/ws" || r.rfind("/ws?", 0) == 0;
+  });
+  s.set_open_handler([this, impl](Handle h) {
+    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
+    const bool authorized = sameToken(queryValue(con->get_resource(), "token"), options_.token);
+    const int id = impl->next_id++;
+    impl->connections[h] = Impl::Connection{id, authorized};
+    impl->by_id[id] = h;
+    ++counters_.connections;
+    if (impl->on_open) impl->on_open(id, authorized);
+  });
+  s.set_close_handler([this, impl](Handle h) {
+    // A message over the size limit ends its connection (close code 1009): a rejection too.
+    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
+    if (con->get_local_close_code() == websocketpp::close::status::message_too_big) ++counters_.rejected_malformed;
+    const auto it = impl->connections.find(h);
+    if (it == impl->connections.end()) return;
+    impl->by_id.erase(it->second.id);
+    impl->connections.erase(it);
+    --counters_.connections;
+  });
+  s.set_message_handler([this, impl](Handle h, Server::message_ptr m) {
+    ++counters_.messages;
+    const auto it = impl->connections.find(h);
+    if (it == impl->connections.end()) return;
+    if (m->get_opcode() != websocketpp::frame::opcode::text) {
+      ++counters_.rejected_malformed;
+      return;
+    }
+    if (impl->on_message) impl->on_message(it->second.id, it->second.authorized, m->get_payload());
+  });
+
+  websocketpp::lib::error_code ec;
+  boost::system::error_code address_error;
+  const auto address = boost::asio::ip::make_address(options_.bind, address_error);
+  if (address_error) throw std::runtime_error("--bind " + options_.bind + ": not an IP address");
+  s.listen(boost::asio::ip::tcp::endpoint(address, static_cast<unsigned short>(options_.port)), ec);
+  if (ec)
+    throw std::runtime_error("cannot listen on " + options_.bind + ":" + std::to_string(options_.port) + ": " +
+                             ec.message());
+  boost::system::error_code endpoint_error;
+  port_ = s.get_local_endpoint(endpoint_error).port();
+  s.start_accept(ec);
+  if (ec) throw std::runtime_error("cannot accept connections: " + ec.message());
+  impl->thread = std::thread([impl] {
+    try {
+      impl->server.run();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "igms web server: %s\n", e.what());
+    }
+  });
+}
+
+}  // namespace igms::web

@@ -1,0 +1,83 @@
+// The HTTP and WebSocket side of the browser view (websocketpp on Boost.Asio,
+// one thread of its own). It serves the page, three.js from Debian's
+// libjs-three, and the mesh files a model names (only those: a table of
+// registered files, never a path from the request), and it talks to pages
+// over WebSockets at /ws.
+//
+// Everything a page sends is untrusted. A page is a viewer unless its
+// WebSocket URL carries the session's token (/ws?token=...); what a page may
+// do beyond watching is the owner's decision (the message handler gets the
+// flag). Frames go out newest-wins: a page whose socket still holds more
+// than a frame's worth of unsent bytes skips frames instead of queueing them.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace igms::web {
+
+struct WebServerOptions {
+  std::string bind = "127.0.0.1";
+  int port = 0;            // 0: any free port (see port())
+  std::string token;       // empty: no page may act, all watch
+  std::string page_dir;    // the page's files (index.html, *.js, *.css)
+  std::string three_dir;   // Debian's libjs-three (/usr/share/javascript/three)
+};
+
+// Counters a test or the HUD reads (GET /status.json also returns them).
+struct WebCounters {
+  std::atomic<int64_t> connections{0};        // open WebSockets now
+  std::atomic<int64_t> messages{0};           // received from pages
+  std::atomic<int64_t> rejected_malformed{0}; // not JSON, unknown type, bad fields, too long
+  std::atomic<int64_t> rejected_token{0};     // an action from a page without the token
+  std::atomic<int64_t> frames_sent{0};
+  std::atomic<int64_t> frames_skipped{0};     // newest-wins: the page had not taken the last one
+  std::atomic<int64_t> bytes_sent{0};
+  std::atomic<int64_t> http_requests{0};
+  std::atomic<int64_t> http_not_found{0};
+};
+
+class WebServer {
+ public:
+  // client: a connection id; authorized: it presented the token.
+  using MessageHandler = std::function<void(int client, bool authorized, const std::string& text)>;
+  using OpenHandler = std::function<void(int client, bool authorized)>;
+
+  explicit WebServer(const WebServerOptions& options);
+  ~WebServer();  // stops the thread, closes every connection
+  WebServer(const WebServer&) = delete;
+  WebServer& operator=(const WebServer&) = delete;
+
+  // Handlers run on the server's thread; set them before start().
+  void onMessage(MessageHandler handler);
+  void onOpen(OpenHandler handler);
+  // Extra JSON fields for GET /status.json (called on the server's thread).
+  void onStatus(std::function<std::string()> extra_json);
+
+  // Binds and starts the thread. Throws std::runtime_error naming the
+  // address when it cannot bind.
+  void start();
+  int port() const { return port_; }
+  // http://BIND:PORT/ (with ?token=... when `with_token`).
+  std::string url(bool with_token) const;
+
+  // Serve `file` at /mesh/<id>/<basename>; returns that URL path. Thread-safe.
+  std::string addFile(const std::string& file);
+  // To one page / to every page (newest-wins for frames). Thread-safe.
+  void send(int client, std::string text);
+  void sendAll(std::string text);  // reliable (not newest-wins): session descriptions
+  void broadcastFrame(std::string text);
+
+  WebCounters& counters() { return counters_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  WebServerOptions options_;
+  int port_ = 0;
+  WebCounters counters_;
+};
+
+}  // namespace igms::web
