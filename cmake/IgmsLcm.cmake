@@ -1,6 +1,7 @@
 # igms_lcm_types(<target> <file.lcm>...): runs lcm-gen at build time and gives
-# <target> (an INTERFACE library) the generated C++ headers. Nothing generated
-# is committed.
+# <target> (an INTERFACE library) the generated C++ headers, their decoders
+# bounded (IgmsLcmBounds.cmake). Nothing generated is committed.
+set(IGMS_LCM_BOUNDS_SCRIPT ${CMAKE_CURRENT_LIST_DIR}/IgmsLcmBounds.cmake)
 function(igms_lcm_types target)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/generated)
   set(headers "")
@@ -16,11 +17,16 @@ function(igms_lcm_types target)
       list(APPEND outputs ${out_dir}/${pkg}/${name}.hpp)
     endforeach()
     set(these ${outputs})
+    set(bound_commands "")
+    foreach(header IN LISTS these)
+      list(APPEND bound_commands COMMAND ${CMAKE_COMMAND} -DHEADER=${header} -P ${IGMS_LCM_BOUNDS_SCRIPT})
+    endforeach()
     add_custom_command(
       OUTPUT ${these}
       COMMAND ${CMAKE_COMMAND} -E make_directory ${out_dir}
       COMMAND ${LCM_GEN} --cpp --cpp-std c++11 --cpp-hpath ${out_dir} ${abs}
-      DEPENDS ${abs}
+      ${bound_commands}
+      DEPENDS ${abs} ${IGMS_LCM_BOUNDS_SCRIPT}
       COMMENT "lcm-gen ${lcm_file}"
       VERBATIM)
     list(APPEND headers ${these})

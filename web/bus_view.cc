@@ -101,6 +101,11 @@ int64_t BusView::undecodable() const {
   return undecodable_;
 }
 
+int64_t BusView::serverToken() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return have_server_ ? server_.session_token : 0;
+}
+
 int64_t BusView::states() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return states_;

@@ -32,6 +32,8 @@ class BusView {
   // object (",\"key\":value..."). Empty before the first state.
   std::string frameJson(double now, const std::string& extra);
   int64_t undecodable() const;
+  // The session token of the newest server status (0 before one): commands carry it.
+  int64_t serverToken() const;
   int64_t states() const;
 
  private:

@@ -1,6 +1,7 @@
 #include "haptic_client/device/web_device.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <random>
 #include <regex>
@@ -112,6 +113,9 @@ class WebDevice::Page {
     } else {
       return PageMessage::Malformed;
     }
+    // The operator's key when one is set (IGMS_KEY, as igms-server --key), else the session token.
+    const char* key = std::getenv("IGMS_KEY");
+    c.auth = key && *key ? std::string(key) : std::to_string(view_.bus().serverToken());
     feed_.publish(channels::kCommand, c);
     ++commands_;
     return PageMessage::Handled;

@@ -61,6 +61,7 @@ void ClientStatusThread::publishStatus(double now) {
   s.max_force_step = stats_.max_force_step;
   s.mode = static_cast<int8_t>(stats_.mode.load());
   for (int k = 0; k < 3; ++k) s.rendered_force[k] = stats_.force[k];
+  s.undecodable = bus_.undecodable();
   bus_.lcm().publish(channels::kClientStatus, &s);
 }
 

@@ -23,6 +23,13 @@ int main(int argc, char** argv) {
   app.add_option("--input-hold", o.input_hold, "s an input keeps acting without a newer one (realtime clock)")
       ->check(igms::cli::Seconds);
   app.add_flag("--quiet", o.quiet, "no status lines on stderr");
+  app.add_option("--key", o.commands.key,
+                 "commands must carry this key (default: $IGMS_KEY; without one, the session token)")
+      ->envname("IGMS_KEY");
+  app.add_option("--scene-dir", o.commands.scene_dirs, "LOAD_SCENE only from these folders (default: --scene's folder)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--output-dir", o.commands.output_dir, "SAVE_TRAJECTORY only into this folder (default: .)")
+      ->check(CLI::ExistingDirectory);
   auto* faults = app.add_option_group("fault injection", "on the published states, to test a client's fallbacks");
   faults->add_option("--fault-drop", o.fault_drop, "fraction of states not published")->check(CLI::Range(0.0, 1.0));
   faults->add_option("--fault-burst-ms", o.fault_burst_ms, "every second, no states for this long")
@@ -31,5 +38,9 @@ int main(int argc, char** argv) {
       ->check(igms::cli::nonNegative("US"));
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   o.clock = clock == "lockstep" ? igms::ServerOptions::Clock::Lockstep : igms::ServerOptions::Clock::Realtime;
+  if (o.commands.scene_dirs.empty()) {
+    const size_t slash = o.scene_path.rfind('/');
+    o.commands.scene_dirs.push_back(slash == std::string::npos ? "." : o.scene_path.substr(0, slash + 1));
+  }
   return igms::runServer(o, igms::stopOnSignals());
 }

@@ -83,7 +83,14 @@ void applyCommands(BusReceiver& receiver, SceneParts& p, LoopControl& control, c
                    int64_t& token) {
   std::deque<command_t> todo;
   if (!receiver.takeCommands(&todo)) return;
-  for (const command_t& c : todo) {
+  for (const command_t& received : todo) {
+    command_t c;
+    const CommandResult allowed = authorizeCommand(received, token, o.commands, &c);
+    if (!allowed.accepted) {
+      ++p.loop.commands_rejected;
+      p.loop.setMessage("command rejected: " + allowed.message);
+      continue;
+    }
     const CommandResult r = applyCommand(c, *p.sim, control);
     if (!r.accepted) {
       ++p.loop.commands_rejected;

@@ -16,6 +16,8 @@
 #include <atomic>
 #include <string>
 
+#include "server/loop/command_policy.h"
+
 namespace igms {
 
 struct ServerOptions {
@@ -28,6 +30,7 @@ struct ServerOptions {
   bool start_paused = false;
   double input_hold = 0.05;     // s: an input keeps acting this long without a newer one
   bool quiet = false;
+  CommandPolicy commands;       // key, scene folders, output folder
   // Fault injection on the published states (tests of the client's fallback):
   double fault_drop = 0.0;       // fraction of states not published
   double fault_burst_ms = 0.0;   // every second, no states for this long

@@ -74,7 +74,7 @@ class Listener {
 
 ChildProcess startServer(const std::string& scene) {
   return ChildProcess({std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/" + scene, "--lcm-url", url(),
-                       "--session-token", std::to_string(kToken), "--quiet"});
+                       "--session-token", std::to_string(kToken), "--quiet", "--output-dir", ::testing::TempDir()});
 }
 
 haptic_input_t input(int64_t seq, int8_t mode, const Vector3& tip) {
@@ -225,6 +225,7 @@ TEST(Server, UnknownAndUndecodableCommandsAreCountedAndChangeNothing) {
   lcm::LCM bus(url());
   command_t unknown{};
   unknown.kind = 77;
+  unknown.auth = std::to_string(kToken);
   bus.publish(channels::kCommand, &unknown);
   const uint8_t garbage[5] = {9, 8, 7, 6, 5};
   bus.publish(channels::kCommand, garbage, sizeof garbage);
@@ -232,6 +233,7 @@ TEST(Server, UnknownAndUndecodableCommandsAreCountedAndChangeNothing) {
   gains.kind = command_t::SET_GAINS;
   gains.nvalues = 3;
   gains.values = {-1.0, 800.0, 10.0};  // a negative stiffness
+  gains.auth = std::to_string(kToken);
   bus.publish(channels::kCommand, &gains);
   std::this_thread::sleep_for(std::chrono::milliseconds(400));
   std::lock_guard<std::mutex> l(listener.mutex);
@@ -308,6 +310,10 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
     command_t c{};
     c.kind = kind;
     c.text = text;
+    {
+      std::lock_guard<std::mutex> l(listener.mutex);
+      c.auth = std::to_string(listener.status.session_token);  // a reset changes it
+    }
     bus.publish(channels::kCommand, &c);
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   };
@@ -336,6 +342,7 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
   bad.trajectory.joint_names.assign(6, "q");
   bad.trajectory.t = {0.0};
   bad.trajectory.q = {std::vector<double>(6, 0.0)};
+  bad.auth = std::to_string(kToken);
   bus.publish(channels::kCommand, &bad);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   {
@@ -359,6 +366,47 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
   EXPECT_NE(listener.status.session_token, old_token) << "a reset starts a new session";
   EXPECT_LT(listener.last.sim_time, 0.5);
   EXPECT_EQ(listener.status.state, "running");
+}
+
+TEST(Server, CommandsNeedTheTokenAndStayInTheirFolders) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  lcm::LCM bus(url());
+  auto send = [&](int8_t kind, const std::string& auth, const std::string& text, const std::string& expect) {
+    command_t c{};
+    c.kind = kind;
+    c.text = text;
+    c.auth = auth;
+    bus.publish(channels::kCommand, &c);
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_NE(listener.status.message.find(expect), std::string::npos) << listener.status.message;
+    EXPECT_EQ(listener.status.state, "running") << "nothing a refused command asked for happened";
+  };
+  const std::string token = std::to_string(kToken);
+  send(command_t::SHUTDOWN, "", "", "not authorized");
+  send(command_t::RESET, token + "0", "", "not authorized");
+  send(command_t::PAUSE, "123", "", "not authorized");
+  send(command_t::SAVE_TRAJECTORY, token, "../escaped.yaml", "not in the output folder");
+  send(command_t::SAVE_TRAJECTORY, token, "/etc/igms_escaped.yaml", "not in the output folder");
+  send(command_t::LOAD_SCENE, token, "/etc/passwd", "not a scene file in a scene folder");
+  send(command_t::LOAD_SCENE, token, "../../../../etc/hostname", "not a scene file in a scene folder");
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    EXPECT_EQ(listener.status.commands_rejected, 7);
+  }
+  EXPECT_TRUE(server.running());
+  // With the token, inside the output folder: done.
+  command_t save{};
+  save.kind = command_t::SAVE_TRAJECTORY;
+  save.text = "inside_output_dir.yaml";
+  save.auth = token;
+  bus.publish(channels::kCommand, &save);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const std::string saved = ::testing::TempDir() + "/inside_output_dir.yaml";
+  EXPECT_NE(readFile(saved).find("waypoints:"), std::string::npos);
+  std::remove(saved.c_str());
 }
 
 }  // namespace

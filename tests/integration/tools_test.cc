@@ -94,7 +94,7 @@ TEST(Logger, CountsWhatASlowDiskMakesItDrop) {
   const std::string log = temp("slow.lcmlog"), stats = temp("slow.json");
   lcm::LCM bus(url());
   {
-    ChildProcess logger({tool("igms-logger"), "-o", log, "--lcm-url", url(), "-q", "--stats-file", stats,
+    ChildProcess logger({tool("igms-logger"), log, "--lcm-url", url(), "-q", "--stats-file", stats,
                          "--wait-session-s", "0", "--queue", "50", "--slow-disk-us", "2000", "-c", "SLOW_.*"});
     settle();
     for (int k = 0; k < 600; ++k) {

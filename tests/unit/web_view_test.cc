@@ -3,10 +3,7 @@
 // (undecodable messages counted, lost peers flagged), and the web server's
 // routes (no path outside the page, only registered meshes, the token) over
 // real sockets on 127.0.0.1.
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -22,6 +19,7 @@
 #include "core/model_io/urdf_loader.h"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
+#include "tests/support/http_get.h"
 #include "web/bus_view.h"
 #include "web/session_scene.h"
 #include "web/web_server.h"
@@ -30,6 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 using igms::resolveResource;
+using igms::test::httpGet;
+using igms::test::httpStatus;
 
 fs::path tempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("igms_web_view_test_" + name + "_" + std::to_string(getpid()));
@@ -211,29 +211,6 @@ TEST(BusView, FramesFromTheNewestStateAndLostPeers) {
 
 // --- the web server over real sockets ---
 
-std::string httpGet(int port, const std::string& target) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    close(fd);
-    return "";
-  }
-  const std::string request = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
-  if (send(fd, request.data(), request.size(), 0) < 0) return "";
-  std::string response;
-  char buf[4096];
-  for (ssize_t n; (n = recv(fd, buf, sizeof buf, 0)) > 0;) response.append(buf, static_cast<size_t>(n));
-  close(fd);
-  return response;
-}
-
-int statusCode(const std::string& response) {
-  return response.size() > 12 ? std::atoi(response.substr(9, 3).c_str()) : 0;
-}
-
 // Opens /ws (with `query`), sends `text`, waits for the server's first
 // message; returns what the server's open handler saw.
 struct WsResult {
@@ -293,23 +270,23 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(server.url(true), "http://127.0.0.1:" + std::to_string(port) + "/?token=abc123");
 
   std::string r = httpGet(port, "/");
-  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_EQ(httpStatus(r), 200);
   EXPECT_NE(r.find("igms page"), std::string::npos);
   r = httpGet(port, "/igms/main.js");
-  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_EQ(httpStatus(r), 200);
   EXPECT_NE(r.find("application/javascript"), std::string::npos);  // module scripts need it
-  EXPECT_EQ(statusCode(httpGet(port, "/three/build/three.module.js")), 200);
+  EXPECT_EQ(httpStatus(httpGet(port, "/three/build/three.module.js")), 200);
   // Nothing outside the page and three.js, however the path is spelled.
-  EXPECT_EQ(statusCode(httpGet(port, "/igms/../secret.txt")), 404);
-  EXPECT_EQ(statusCode(httpGet(port, "/igms/%2e%2e/secret.txt")), 404);
-  EXPECT_EQ(statusCode(httpGet(port, "/three/../../secret.txt")), 404);
-  EXPECT_EQ(statusCode(httpGet(port, "/etc/passwd")), 404);
+  EXPECT_EQ(httpStatus(httpGet(port, "/igms/../secret.txt")), 404);
+  EXPECT_EQ(httpStatus(httpGet(port, "/igms/%2e%2e/secret.txt")), 404);
+  EXPECT_EQ(httpStatus(httpGet(port, "/three/../../secret.txt")), 404);
+  EXPECT_EQ(httpStatus(httpGet(port, "/etc/passwd")), 404);
   // Meshes only once registered, and only that file.
-  EXPECT_EQ(statusCode(httpGet(port, "/mesh/0/link1.stl")), 404);
+  EXPECT_EQ(httpStatus(httpGet(port, "/mesh/0/link1.stl")), 404);
   const std::string mesh = server.addFile((d / "meshes/link1.stl").string());
   EXPECT_EQ(server.addFile((d / "meshes/link1.stl").string()), mesh);  // once per file
   r = httpGet(port, mesh);
-  EXPECT_EQ(statusCode(r), 200);
+  EXPECT_EQ(httpStatus(r), 200);
   EXPECT_NE(r.find("solid x"), std::string::npos);
 
   // The token decides the role; every message is counted.
@@ -322,12 +299,11 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(messages.load(), 3);
   // Over the size limit: dropped (the connection closes), counted, the server goes on.
   wsSession(port, "", std::string(64 * 1024, 'x'));
-  const nlohmann::json s = nlohmann::json::parse(httpGet(port, "/status.json").substr(
-      httpGet(port, "/status.json").find("\r\n\r\n") + 4));
+  const nlohmann::json s = nlohmann::json::parse(igms::test::httpBody(httpGet(port, "/status.json")));
   EXPECT_GE(s["http_not_found"].get<int>(), 5);
   EXPECT_EQ(s["messages"].get<int>(), 3);
   EXPECT_EQ(s["rejected_malformed"].get<int>(), 1);
-  EXPECT_EQ(statusCode(httpGet(port, "/")), 200);
+  EXPECT_EQ(httpStatus(httpGet(port, "/")), 200);
 }
 
 }  // namespace

@@ -221,7 +221,9 @@ int parseOptions(int argc, char** argv, Options* o) {
   igms::cli::describe(app,
                       "Records LCM traffic to an event log (lcm-logger's format): a receive queue and a writer "
                       "thread, drops counted, the session info first. Run it inside scripts/netns_run.sh.");
-  app.add_option("-o,--output", o->name, "log file (default: a dated name in the current folder)");
+  auto* output = app.add_option("-o,--output", o->name, "log file (default: a dated name in the current folder)");
+  // As lcm-logger users type it: igms-logger session.lcmlog
+  app.add_option("file", o->name, "log file (the same as -o)")->excludes(output);
   app.add_flag("--increment", o->increment, "add a number to the name instead of overwriting");
   app.add_flag("--timestamp", o->timestamp, "add the date and time to the name");
   app.add_option("-c,--channel", o->channel_regex, "channels to record (a regular expression)")
