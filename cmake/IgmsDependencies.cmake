@@ -6,6 +6,7 @@ find_package(Threads REQUIRED)
 # urdfdom: only the model loaders use it.
 pkg_check_modules(URDFDOM REQUIRED IMPORTED_TARGET urdfdom)
 find_package(yaml-cpp REQUIRED)
+find_package(assimp REQUIRED)  # meshes: STL, Collada, OBJ (libassimp-dev)
 if(NOT TARGET yaml-cpp::yaml-cpp)
   add_library(yaml-cpp::yaml-cpp INTERFACE IMPORTED)
   target_link_libraries(yaml-cpp::yaml-cpp INTERFACE yaml-cpp)

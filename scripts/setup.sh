@@ -9,6 +9,7 @@ packages=(
   cmake ninja-build g++ pkg-config            # toolchain
   libeigen3-dev                               # dynamics core
   liburdfdom-dev libyaml-cpp-dev              # model loaders (URDF, DH tables, scenes)
+  libassimp-dev                               # meshes (STL, Collada, OBJ) for collision and visuals
   liblcm-dev liblcm-bin liblcm-java           # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy (lcm.jar)
   libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
   liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
@@ -16,6 +17,7 @@ packages=(
   libgtest-dev nlohmann-json3-dev zlib1g-dev  # tests, igms-dyn's JSON, compressed logs
   iproute2 util-linux                         # ip, unshare: private network namespace for LCM
   python3 python3-yaml python3-matplotlib     # model generators, plots
+  python3-pip                                 # example-robot-data from PyPI (scripts/fetch_robots.sh)
   libwebsocketpp-dev libboost-dev libjs-three # browser view: HTTP/WebSocket server, three.js in the page
   chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)
   fonts-dejavu-core socat                     # the page's text; scripts/live.sh's bridge out of the netns
@@ -31,6 +33,9 @@ if ((${#missing[@]})); then
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+# Real robot models (Panda, UR5, ...) for the mesh tests and scenes; without PyPI those tests skip.
+scripts/fetch_robots.sh || echo "setup: example-robot-data not fetched; the tests that need it will skip" >&2
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
   cat build.configure.log

@@ -6,6 +6,34 @@
 namespace igms {
 namespace {
 
+// The signed distance at p and its gradient (the outward normal) from the
+// trilinear interpolation of the field's grid. False when p is outside the
+// grid or farther than `reach` from the surface: nothing to touch.
+bool sampleField(const DistanceField& f, const Vector3& p, double reach, double* distance, Vector3* normal) {
+  const Vector3 g = (p - f.origin) / f.spacing;
+  const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y())),
+            k = static_cast<int>(std::floor(g.z()));
+  if (i < 0 || j < 0 || k < 0 || i >= f.nx - 1 || j >= f.ny - 1 || k >= f.nz - 1) return false;
+  const double u = g.x() - i, v = g.y() - j, w = g.z() - k;
+  const double c000 = f.at(i, j, k), c100 = f.at(i + 1, j, k), c010 = f.at(i, j + 1, k), c110 = f.at(i + 1, j + 1, k);
+  const double c001 = f.at(i, j, k + 1), c101 = f.at(i + 1, j, k + 1), c011 = f.at(i, j + 1, k + 1),
+               c111 = f.at(i + 1, j + 1, k + 1);
+  const double c00 = c000 + u * (c100 - c000), c10 = c010 + u * (c110 - c010);
+  const double c01 = c001 + u * (c101 - c001), c11 = c011 + u * (c111 - c011);
+  const double c0 = c00 + v * (c10 - c00), c1 = c01 + v * (c11 - c01);
+  *distance = c0 + w * (c1 - c0);
+  if (*distance >= reach) return false;
+  // The analytic gradient of the trilinear interpolant.
+  const double dx = (1 - w) * ((1 - v) * (c100 - c000) + v * (c110 - c010)) + w * ((1 - v) * (c101 - c001) + v * (c111 - c011));
+  const double dy = (1 - w) * (c10 - c00) + w * (c11 - c01);
+  const double dz = c1 - c0;
+  const Vector3 grad = Vector3(dx, dy, dz) / f.spacing;
+  const double n = grad.norm();
+  if (!(n > 1e-9)) return false;  // a flat spot deep inside: no direction to push
+  *normal = grad / n;
+  return true;
+}
+
 // Closest surface point and outward normal of a shape, in its own frame, for a
 // point c; inside = c is inside the shape.
 void closestOnBox(const Vector3& half, const Vector3& c, Vector3& surface, Vector3& normal, bool& inside) {
@@ -75,8 +103,16 @@ TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector
       inside = r < shape.size[0];
       break;
     }
-    case CollisionShape::Kind::Mesh:
+    case CollisionShape::Kind::Mesh: {
+      if (!shape.field) return out;  // no field: a mesh from a description read as text
+      double distance = 0.0;
+      if (!sampleField(*shape.field, c, tip_radius, &distance, &normal)) return out;
+      out.depth = tip_radius - distance;
+      out.touching = out.depth > 0.0;
+      out.normal = pose.R * normal;
+      out.point = pose.act(Vector3(c - normal * distance));
       return out;
+    }
   }
   // Signed distance from the surface to the tip centre (negative inside).
   const double distance = inside ? -(surface - c).norm() : (c - surface).norm();

@@ -1,6 +1,6 @@
-// The haptic tip is a small sphere. Its penetration into a primitive shape
-// (box, sphere, cylinder), exact and allocation-free: the d and the normal of
-// eq. (3).
+// The haptic tip is a small sphere. Its penetration into a shape, the d and
+// the normal of eq. (3), allocation-free: exact for primitives (box, sphere,
+// cylinder), from the signed distance field for meshes.
 #pragma once
 
 #include "core/model/model.h"
@@ -14,7 +14,9 @@ struct TipContact {
   Vector3 point = Vector3::Zero();  // world, on the shape's surface under the tip
 };
 
-// shape.placement is ignored; pose is the shape's world pose. Meshes never touch.
+// shape.placement is ignored; pose is the shape's world pose. Meshes are
+// tested against their distance field (trilinear, constant time); a mesh
+// without one never touches.
 TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector3& tip_center, double tip_radius);
 
 }  // namespace igms

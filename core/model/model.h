@@ -11,9 +11,11 @@
 // iZ_i.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/model/distance_field.h"
 #include "core/model/spatial.h"
 
 namespace igms {
@@ -29,6 +31,9 @@ struct CollisionShape {
   Vector3 size = Vector3::Zero();  // box: extents; cylinder: (radius, length, 0); sphere: (radius, 0, 0)
   std::string mesh_file;
   Vector3 mesh_scale = Vector3::Ones();
+  // Collision meshes: the signed distance field the tip is tested against
+  // (null for primitives, visuals, and meshes of descriptions read from text).
+  std::shared_ptr<const DistanceField> field;
   SE3 placement;                   // in the frame of the link that owns it
 };
 

@@ -1,5 +1,7 @@
 #include "core/model_io/urdf_loader.h"
 
+#include "core/model_io/mesh_fields.h"
+
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -152,7 +154,9 @@ RobotDescription parseUrdfDescription(const std::string& xml, const std::string&
 }
 
 RobotDescription loadUrdfDescription(const std::string& path) {
-  return parseUrdfDescription(readModelFile(path), path);
+  RobotDescription d = parseUrdfDescription(readModelFile(path), path);
+  attachDistanceFields(d, path);
+  return d;
 }
 
 Model loadUrdfModel(const std::string& path, const BuildOptions& options, std::vector<std::string>* warnings) {

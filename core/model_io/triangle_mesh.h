@@ -1,0 +1,22 @@
+// A mesh file read as triangles (assimp: STL ASCII and binary, Collada,
+// OBJ), every node's transform applied and the URDF's scale too, in the
+// frame the URDF places the mesh in.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/model/spatial.h"
+
+namespace igms {
+
+struct TriangleMesh {
+  std::vector<Vector3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// Throws ModelError naming the file and assimp's reason.
+TriangleMesh loadTriangleMesh(const std::string& path, const Vector3& scale);
+
+}  // namespace igms
