@@ -11,6 +11,7 @@
 
 #include "core/cli/command_line.h"
 #include "server/collision/collision_world.h"
+#include "core/geometry/deepest_contact.h"
 #include "core/simulation/simulation.h"
 
 namespace {
@@ -103,6 +104,51 @@ int main(int argc, char** argv) {
     Simulation sim(loadScene(dir + "quadruped_float.yaml"));
     auto us = timeSteps(sim, nullptr, n);
     report("quadruped, floating base (18 dof), linearly_implicit", us);
+  }
+  // Robots from example-robot-data (scripts/fetch_robots.sh), pushed on a collision mesh and pulled.
+  struct RealRobot {
+    const char* scene;
+    const char* label;
+    const char* pushed;
+  };
+  for (const RealRobot& r : {RealRobot{"panda_obstacle.yaml", "Panda (9 dof, meshes)", "panda_link4"},
+                             RealRobot{"ur5_line.yaml", "UR5 (6 dof, meshes)", "forearm_link"},
+                             RealRobot{"talos_float.yaml", "Talos (44 dof + floating base, meshes)", "torso_2_link"}}) {
+    Scene scene;
+    try {
+      scene = loadScene(dir + r.scene);
+      Simulation probe(scene);
+    } catch (const std::exception& e) {
+      std::printf("%-62s skipped: %s\n", r.label, e.what());
+      continue;
+    }
+    {
+      Simulation sim(scene);
+      sim.step(nullptr);
+      // A tip just touching the link's mesh: marched in from 30 cm above its origin.
+      const int f = sim.model().frameIndex(r.pushed);
+      InteractionInput push;
+      push.mode = InteractionMode::Push;
+      push.contact_frame = f;
+      const auto& poses = sim.linkPoses();
+      Vector3 tip = poses[static_cast<size_t>(f)].p + Vector3(0, 0, 0.3);
+      for (int k = 0; k < 3000; ++k, tip.z() -= 1e-4) {
+        const LinkContact c = deepestContact(sim.model(), [&](int g) { return poses[static_cast<size_t>(g)]; }, tip,
+                                             sim.scene().push.tip_radius, f);
+        if (c.contact.touching && c.contact.depth > 0.005) break;
+      }
+      push.tip_position = tip;
+      auto us = timeSteps(sim, &push, n);
+      report((std::string(r.label) + ", push on a mesh link").c_str(), us);
+    }
+    {
+      Simulation sim(scene);
+      InteractionInput pull;
+      pull.mode = InteractionMode::Pull;
+      pull.tip_position = sim.linkPoses()[static_cast<size_t>(std::max(0, sim.pullFrame()))].p + Vector3(0.02, 0, 0);
+      auto us = timeSteps(sim, &pull, n);
+      report((std::string(r.label) + ", pull").c_str(), us);
+    }
   }
   return 0;
 }

@@ -17,6 +17,7 @@
 
 #include "core/model/distance_field.h"
 #include "core/model/spatial.h"
+#include "core/model/triangle_mesh.h"
 
 namespace igms {
 
@@ -34,6 +35,7 @@ struct CollisionShape {
   // Collision meshes: the signed distance field the tip is tested against
   // (null for primitives, visuals, and meshes of descriptions read from text).
   std::shared_ptr<const DistanceField> field;
+  std::shared_ptr<const TriangleMesh> triangles;  // the same mesh as triangles (the obstacle monitor's)
   SE3 placement;                   // in the frame of the link that owns it
 };
 
@@ -66,6 +68,9 @@ struct Model {
 
   // Per body (index = joint index: joint i moves body i).
   std::vector<std::string> joint_name;
+  // The joint each one mimics in the URDF ("" : none). igms does not couple
+  // them: a mimic joint is an independent coordinate (the load warns).
+  std::vector<std::string> joint_mimic;
   std::vector<std::string> body_name;  // name of the URDF link that is the body frame
   std::vector<JointType> joint_type;
   std::vector<bool> joint_continuous;  // a revolute joint declared continuous (no limits)

@@ -243,6 +243,19 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
       warnings->push_back(where(d) + ": warning: joint '" + m.joint_name[i] +
                           "' moves no mass or inertia along its axis: H is singular, forward dynamics will fail");
   }
+  // Mimic joints (grippers' fingers): kept as independent coordinates, said so.
+  m.joint_mimic.assign(static_cast<size_t>(m.nb), "");
+  for (const JointDescription& j : d.joints) {
+    if (j.mimic.empty()) continue;
+    for (int i = 0; i < m.nb; ++i)
+      if (m.joint_name[static_cast<size_t>(i)] == j.name) m.joint_mimic[static_cast<size_t>(i)] = j.mimic;
+    if (warnings) {
+      std::ostringstream w;
+      w << where(d) << ": warning: joint '" << j.name << "' mimics '" << j.mimic << "' (q = " << j.mimic_multiplier
+        << " q_" << j.mimic << " + " << j.mimic_offset << "): igms treats it as an independent coordinate";
+      warnings->push_back(w.str());
+    }
+  }
   return m;
 }
 

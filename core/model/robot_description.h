@@ -40,6 +40,8 @@ struct JointDescription {
   double upper = std::numeric_limits<double>::infinity();
   double effort = std::numeric_limits<double>::infinity();
   double velocity = std::numeric_limits<double>::infinity();
+  std::string mimic;                        // <mimic joint="..."/>: the leader ("" : none)
+  double mimic_multiplier = 1.0, mimic_offset = 0.0;
 };
 
 struct RobotDescription {

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/model/distance_field.h"
-#include "core/model_io/triangle_mesh.h"
+#include "core/model/triangle_mesh.h"
 
 namespace igms {
 

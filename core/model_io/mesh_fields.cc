@@ -5,6 +5,8 @@
 #include <map>
 
 #include "core/model_io/distance_field_builder.h"
+#include "core/model_io/distance_field_cache.h"
+#include "core/model_io/mesh_reader.h"
 #include "core/model_io/resource_path.h"
 
 namespace igms {
@@ -12,7 +14,11 @@ namespace igms {
 void attachDistanceFields(RobotDescription& description, const std::string& urdf_path,
                           const MeshFieldOptions& options) {
   // One field per file and scale, shared by every link that uses it.
-  std::map<std::string, std::shared_ptr<const DistanceField>> built;
+  struct Built {
+    std::shared_ptr<const DistanceField> field;
+    std::shared_ptr<const TriangleMesh> triangles;
+  };
+  std::map<std::string, Built> built;
   for (LinkDescription& link : description.links) {
     for (CollisionShape& shape : link.collisions) {
       if (shape.kind != CollisionShape::Kind::Mesh) continue;
@@ -26,8 +32,8 @@ void attachDistanceFields(RobotDescription& description, const std::string& urdf
       }
       const std::string key = found.path + "|" + std::to_string(shape.mesh_scale.x()) + "," +
                               std::to_string(shape.mesh_scale.y()) + "," + std::to_string(shape.mesh_scale.z());
-      auto& field = built[key];
-      if (!field) {
+      Built& done = built[key];
+      if (!done.field) {
         TriangleMesh mesh;
         try {
           mesh = loadTriangleMesh(found.path, shape.mesh_scale);
@@ -44,9 +50,17 @@ void attachDistanceFields(RobotDescription& description, const std::string& urdf
         while ((extent.x() / spacing + 3) * (extent.y() / spacing + 3) * (extent.z() / spacing + 3) >
                static_cast<double>(options.max_points))
           spacing *= 1.25;
-        field = std::make_shared<const DistanceField>(buildDistanceField(mesh, spacing, options.band));
+        const uint64_t key = distanceFieldKey(mesh, spacing, options.band);
+        std::optional<DistanceField> cached = options.use_cache ? readCachedField(key) : std::nullopt;
+        if (!cached) {
+          cached = buildDistanceField(mesh, spacing, options.band);
+          if (options.use_cache) writeCachedField(key, *cached);
+        }
+        done.field = std::make_shared<const DistanceField>(std::move(*cached));
+        done.triangles = std::make_shared<const TriangleMesh>(std::move(mesh));
       }
-      shape.field = field;
+      shape.field = done.field;
+      shape.triangles = done.triangles;
     }
   }
 }

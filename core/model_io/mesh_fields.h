@@ -15,6 +15,7 @@ struct MeshFieldOptions {
   double spacing = 0.002;          // m between grid points (finer for small meshes)
   double band = 0.015;             // m: exact within this distance of the surface
   long max_points = 4'000'000;     // per mesh: a larger mesh gets a coarser grid
+  bool use_cache = true;           // distance_field_cache.h
 };
 
 void attachDistanceFields(RobotDescription& description, const std::string& urdf_path,

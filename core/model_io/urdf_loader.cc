@@ -107,6 +107,11 @@ JointDescription toJoint(const urdf::Joint& joint, const std::string& source) {
     case urdf::Joint::PLANAR: j.type = T::Planar; break;
     default: throw ModelError(source + ": joint '" + joint.name + "': unknown joint type");
   }
+  if (joint.mimic) {
+    j.mimic = joint.mimic->joint_name;
+    j.mimic_multiplier = joint.mimic->multiplier;
+    j.mimic_offset = joint.mimic->offset;
+  }
   if (joint.dynamics) {
     j.damping = joint.dynamics->damping;
     j.friction = joint.dynamics->friction;

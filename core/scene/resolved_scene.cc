@@ -21,6 +21,21 @@ ResolvedScene resolveScene(const Scene& scene) {
   r.scene = scene;
   r.model = std::make_shared<const Model>(loadModel(scene.model_path, scene.build));
   const Model& m = *r.model;
+  for (size_t i = 0; i < m.joint_mimic.size(); ++i)
+    if (!m.joint_mimic[i].empty())
+      r.warnings.push_back(scene.model_path + ": joint '" + m.joint_name[i] + "' mimics '" + m.joint_mimic[i] +
+                           "': treated as an independent coordinate");
+  if (scene.push.enabled) {
+    // A link the tip passes through silently is the worst kind of no-op: say which.
+    for (const Frame& f : m.frames) {
+      if (f.body < 0 || m.body_name[static_cast<size_t>(f.body)] != f.name) continue;  // frames on a body: its own
+      bool touchable = false;
+      for (const CollisionShape& c : f.collisions) touchable |= c.kind != CollisionShape::Kind::Mesh || c.field;
+      if (!touchable)
+        r.warnings.push_back(scene.source + ": push is on, but link '" + f.name +
+                             "' has no collision geometry the tip can touch: it passes through");
+    }
+  }
   r.q0 = scene.q0.size() ? scene.q0 : neutralConfiguration(m);
   r.v0 = scene.v0.size() ? scene.v0 : VectorX::Zero(m.nv);
   if (r.q0.size() != m.nq)

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "core/scene/scene.h"
 
@@ -16,6 +18,9 @@ struct ResolvedScene {
   VectorX q0, v0;      // nq, nv (neutral and at rest when the scene gives none); q0 normalised
   VectorX kp, kd;      // nv: per-joint computed-torque gains
   int pull_frame = -1; // interaction.pull.link (default: the model's last link); -1 when pull is off
+  // What the scene cannot do as written, one line each (the programs print them at start): with push
+  // on, every moving link with mass but nothing the tip can touch; mimic joints treated as independent.
+  std::vector<std::string> warnings;
 };
 
 // Loads the model and checks the scene against it. Throws SceneError naming

@@ -61,6 +61,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
   }
+  for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
   ClientBus bus(o.lcm_url, nlinks, model.nq);

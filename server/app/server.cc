@@ -78,6 +78,10 @@ void printStart(const Simulation& sim, const std::string& scene_path, const Serv
   std::fprintf(stderr, "igms-server: active:%s\n", comps.c_str());
 }
 
+void printWarnings(const Simulation& sim) {
+  for (const std::string& w : sim.resolved().warnings) std::fprintf(stderr, "igms-server: warning: %s\n", w.c_str());
+}
+
 // Applies the commands that arrived, between steps.
 void applyCommands(BusReceiver& receiver, SceneParts& p, LoopControl& control, const ServerOptions& o,
                    int64_t& token) {
@@ -176,6 +180,7 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver
   }
   receiver.startSession(sim->model(), token);
   if (!o.quiet) printStart(*sim, scene_path, o, token);
+  printWarnings(*sim);  // even with --quiet: a silent no-op is worse than a line
   SceneParts p(bus, receiver, std::move(sim), o);
   p.status.requestSessionInfo(token);
   p.publishing.start(o.clock == ServerOptions::Clock::Realtime);

@@ -13,7 +13,18 @@ std::shared_ptr<fcl::CollisionGeometryd> geometry(const CollisionShape& s) {
     case CollisionShape::Kind::Box: return std::make_shared<fcl::Boxd>(s.size[0], s.size[1], s.size[2]);
     case CollisionShape::Kind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]);
     case CollisionShape::Kind::Sphere: return std::make_shared<fcl::Sphered>(s.size[0]);
-    case CollisionShape::Kind::Mesh: return nullptr;  // meshes are not loaded (no mesh reader here)
+    case CollisionShape::Kind::Mesh: {
+      if (!s.triangles) return nullptr;  // a description read as text: no triangles
+      auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+      std::vector<fcl::Vector3d> vertices(s.triangles->vertices.begin(), s.triangles->vertices.end());
+      std::vector<fcl::Triangle> triangles;
+      triangles.reserve(s.triangles->triangles.size());
+      for (const auto& t : s.triangles->triangles) triangles.emplace_back(t[0], t[1], t[2]);
+      bvh->beginModel();
+      bvh->addSubModel(vertices, triangles);
+      bvh->endModel();
+      return bvh;
+    }
   }
   return nullptr;
 }
@@ -31,7 +42,12 @@ double boundingRadius(const CollisionShape& s) {
     case CollisionShape::Kind::Box: return 0.5 * s.size.norm();
     case CollisionShape::Kind::Cylinder: return std::hypot(s.size[0], 0.5 * s.size[1]);
     case CollisionShape::Kind::Sphere: return s.size[0];
-    case CollisionShape::Kind::Mesh: return 0.0;
+    case CollisionShape::Kind::Mesh: {
+      double r = 0.0;
+      if (s.triangles)
+        for (const Vector3& v : s.triangles->vertices) r = std::max(r, v.norm());
+      return r;
+    }
   }
   return 0.0;
 }

@@ -21,7 +21,7 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "core/model_io/distance_field_builder.h"
 #include "core/model_io/mesh_fields.h"
-#include "core/model_io/triangle_mesh.h"
+#include "core/model_io/mesh_reader.h"
 #include "core/model_io/urdf_loader.h"
 
 namespace igms {

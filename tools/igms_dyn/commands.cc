@@ -28,11 +28,39 @@ int info(const Model& model, std::ostream& out) {
         .key("name").string(model.joint_name[i])
         .key("type").string(model.joint_continuous[i] ? "continuous" : jointTypeName(model.joint_type[i]))
         .key("q_index").integer(model.q_index[i])
-        .key("v_index").integer(model.v_index[i])
-        .endObject();
+        .key("v_index").integer(model.v_index[i]);
+    if (!model.joint_mimic[static_cast<size_t>(i)].empty())
+      w.key("mimic").string(model.joint_mimic[static_cast<size_t>(i)]).key("coupled").raw("false");
+    w.endObject();
   }
   w.endArray().key("links").beginArray();
   for (const auto& f : model.frames) w.string(f.name);
+  // Each link's geometry: what the tip can touch (collision; meshes with their distance field) and what a
+  // viewer draws (visual).
+  auto kinds = [&](const std::vector<CollisionShape>& shapes) {
+    w.beginArray();
+    for (const CollisionShape& c : shapes) {
+      switch (c.kind) {
+        case CollisionShape::Kind::Box: w.string("box"); break;
+        case CollisionShape::Kind::Cylinder: w.string("cylinder"); break;
+        case CollisionShape::Kind::Sphere: w.string("sphere"); break;
+        case CollisionShape::Kind::Mesh: w.string("mesh " + c.mesh_file); break;
+      }
+    }
+    w.endArray();
+  };
+  w.endArray().key("geometry").beginArray();
+  for (const auto& f : model.frames) {
+    std::vector<CollisionShape> visual;
+    for (const VisualShape& v : f.visuals) visual.push_back(v.geometry);
+    bool touchable = false;
+    for (const CollisionShape& c : f.collisions) touchable |= c.kind != CollisionShape::Kind::Mesh || c.field != nullptr;
+    w.beginObject().key("link").string(f.name).key("collision");
+    kinds(f.collisions);
+    w.key("visual");
+    kinds(visual);
+    w.key("touchable").raw(touchable && f.body >= 0 ? "true" : "false").endObject();
+  }
   w.endArray().endObject();
   out << w.str() << '\n';
   return 0;

@@ -1,4 +1,4 @@
-#include "core/model_io/triangle_mesh.h"
+#include "core/model_io/mesh_reader.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>

@@ -3,18 +3,11 @@
 // frame the URDF places the mesh in.
 #pragma once
 
-#include <array>
 #include <string>
-#include <vector>
 
-#include "core/model/spatial.h"
+#include "core/model/triangle_mesh.h"
 
 namespace igms {
-
-struct TriangleMesh {
-  std::vector<Vector3> vertices;
-  std::vector<std::array<int, 3>> triangles;
-};
 
 // Throws ModelError naming the file and assimp's reason.
 TriangleMesh loadTriangleMesh(const std::string& path, const Vector3& scale);

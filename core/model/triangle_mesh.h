@@ -1,0 +1,18 @@
+// A collision mesh as triangles, in the frame the URDF places it in (scale
+// applied): what the server's obstacle monitor (FCL) checks and what a
+// distance field is built from. Read by core/model_io/mesh_reader.h.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/model/spatial.h"
+
+namespace igms {
+
+struct TriangleMesh {
+  std::vector<Vector3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+}  // namespace igms
