@@ -138,7 +138,8 @@ SessionScene describeSession(const session_info_t& info,
     out.error = e.what();
     hello["error"] = out.error;
   }
-  out.hello_json = hello.dump();
+  // Strings from the bus may be any bytes: invalid UTF-8 becomes U+FFFD rather than an exception.
+  out.hello_json = hello.dump(-1, ' ', false, json::error_handler_t::replace);
   return out;
 }
 

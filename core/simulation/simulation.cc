@@ -88,6 +88,17 @@ void Simulation::reset() {
   record(true);
 }
 
+void Simulation::setState(double t, const VectorX& q, const VectorX& v, const VectorX& qdd, bool interacting) {
+  q_ = q;
+  v_ = v;
+  qdd_ = qdd;
+  q_good_ = q;
+  v_good_ = v;
+  t_ = t;
+  interacting_ = interacting;
+  diverged_ = false;
+}
+
 void Simulation::setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points) {
   nominal_ = PiecewisePolynomial::clampedCubicSpline(times, points);
   nominal_.finalPoint(goal_);

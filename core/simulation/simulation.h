@@ -62,6 +62,10 @@ class Simulation {
   Simulation& operator=(const Simulation&) = delete;
 
   void reset();
+  // Puts the robot in a given state without touching the trajectory: q, v and
+  // the last step's qdd at time t, interacting or not. A haptic client's local
+  // model re-bases itself on each server state this way. No allocation.
+  void setState(double t, const VectorX& q, const VectorX& v, const VectorX& qdd, bool interacting);
   // One step of scene.dt. input may be null (no haptic input this step).
   // \return false when the state diverged (see divergenceReport()); the state
   // then stays at the last good one and further steps do nothing.

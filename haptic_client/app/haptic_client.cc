@@ -38,12 +38,18 @@ void printSummary(const ServoStats& s, double wall) {
   const auto cycles = static_cast<long long>(s.cycles.load());
   std::fprintf(stderr,
                "igms-haptic: %lld cycles in %.2f s (%.1f Hz), %lld deadline misses (max %lld in a row), %lld "
-               "fallbacks, %lld late replies, max force step %.3f N\n"
+               "fallbacks, %lld late replies, max force step %.3f N (%lld cycles cut to the bound)\n"
+               "igms-haptic: state age p50 %.2f ms, p99 %.2f ms, max %.2f ms; lowest energy balance %.4f J, "
+               "passivity controller acted in %lld cycles, took out %.4f J\n"
                "igms-haptic: round trip p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us (%lld replies); "
                "cycle jitter p50 %.0f us, p99 %.0f us, max %.0f us\n",
                cycles, wall, static_cast<double>(cycles) / wall, static_cast<long long>(s.misses.load()),
                static_cast<long long>(s.max_consecutive.load()), static_cast<long long>(s.fallbacks.load()),
-               static_cast<long long>(s.late.load()), s.max_force_step.load(), s.rtt_all.percentile(0.5),
+               static_cast<long long>(s.late.load()), s.max_force_step.load(),
+               static_cast<long long>(s.slew_limited.load()), s.age_all.percentile(0.5) * 1e-3,
+               s.age_all.percentile(0.99) * 1e-3, s.age_all.max() * 1e-3,
+               s.passivity_min_energy.load(), static_cast<long long>(s.passivity_acted.load()),
+               s.passivity_dissipated.load(), s.rtt_all.percentile(0.5),
                s.rtt_all.percentile(0.99), s.rtt_all.percentile(0.999), s.rtt_all.max(),
                static_cast<long long>(s.rtt_all.count()), s.jitter_all.percentile(0.5), s.jitter_all.percentile(0.99),
                s.jitter_all.max());
@@ -56,7 +62,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   FallbackPolicy policy;
   try {
     resolved = resolveScene(loadScene(o.scene_path));
-    if (!parseFallback(o.fallback, &policy)) throw std::runtime_error("--fallback is hold, extrapolate or interpolate");
+    if (!parseFallback(o.fallback, &policy))
+      throw std::runtime_error("--fallback is predict, hold, extrapolate or interpolate");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
@@ -64,13 +71,13 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
-  ClientBus bus(o.lcm_url, nlinks, model.nq);
+  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;
   }
   // The estimate, shared by the device (link lookups) and the loop.
-  StateEstimate estimate(nlinks, model.nq, policy);
+  StateEstimate estimate(model, policy, o.max_prediction_ms * 1e-3);
   std::vector<SE3> links(static_cast<size_t>(nlinks), SE3::Identity());
   std::unique_ptr<HapticDevice> device;
   try {
@@ -94,7 +101,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
                  o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
-                 ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id});
+                 ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
+                             o.passivity_tolerance_mj * 1e-3});
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status

@@ -16,11 +16,24 @@ int main(int argc, char** argv) {
   app.add_option("--device", o.device, "NAME[:ARGS], see below")->required();
   app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
   app.add_option("--rate", o.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
-  app.add_option("--deadline-us", o.deadline_us, "wait for this cycle's state at most this long")
+  app.add_option("--deadline-us", o.deadline_us,
+                 "while replies come back within this long, wait this long for this cycle's")
       ->check(igms::cli::positive("US"));
-  app.add_option("--fallback", o.fallback, "when the state is late")
-      ->check(CLI::IsMember({"hold", "extrapolate", "interpolate"}));
-  app.add_option("--lost-ms", o.lost_ms, "no state for this long: the server is lost, forces ramp down")
+  app.add_option("--fallback", o.fallback,
+                 "how the robot is estimated from a state of some age: predict (its q, v, qdd carried to now), "
+                 "hold, extrapolate (link poses), interpolate")
+      ->check(CLI::IsMember({"predict", "hold", "extrapolate", "interpolate"}));
+  app.add_option("--max-prediction-ms", o.max_prediction_ms, "predict at most this far ahead of a state")
+      ->check(igms::cli::nonNegative("MS"));
+  app.add_option("--local-budget-us", o.local_budget_us,
+                 "predict: the local model's compute per cycle while interacting (its steps are timed at start)")
+      ->check(igms::cli::positive("US"));
+  app.add_flag("--no-passivity", o.no_passivity,
+               "turn the time-domain passivity controller off (its observer still reports the energy balance)");
+  app.add_option("--passivity-tolerance-mj", o.passivity_tolerance_mj,
+                 "how far the energy balance may dip (the robot handing back its own motion) before it acts")
+      ->check(igms::cli::nonNegative("MJ"));
+  app.add_option("--lost-ms", o.lost_ms, "no new state for this long: the server is lost, forces ramp down")
       ->check(igms::cli::positive("MS"));
   app.add_option("--client-id", o.client_id, "this client's id in its inputs");
   app.add_option("--duration", o.duration, "seconds to run (0: until the device's script ends)")

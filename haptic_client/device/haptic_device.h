@@ -12,6 +12,7 @@ namespace igms {
 
 struct DeviceLimits {
   double max_force = 3.3;          // N (a PHANToM Omni's peak)
+  double max_force_step = 1.0;     // N per servo cycle: the most the rendered force may change in one
   double max_stiffness = 800.0;    // N/m the device can render stably
   Vector3 workspace_min = Vector3(-0.08, -0.06, -0.035);  // m, device frame
   Vector3 workspace_max = Vector3(0.08, 0.06, 0.035);

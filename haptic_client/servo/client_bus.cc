@@ -7,16 +7,18 @@
 namespace igms {
 
 namespace {
-ReceivedState initialState(int nlinks, int nq) {
+ReceivedState initialState(int nlinks, int nq, int nv) {
   ReceivedState r;
   r.sample.links.assign(static_cast<size_t>(nlinks), SE3::Identity());
   r.sample.q.assign(static_cast<size_t>(nq), 0.0);
+  r.sample.v.assign(static_cast<size_t>(nv), 0.0);
+  r.sample.qdd.assign(static_cast<size_t>(nv), 0.0);
   return r;
 }
 }  // namespace
 
-ClientBus::ClientBus(const std::string& url, int nlinks, int nq)
-    : lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq)) {
+ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv)
+    : lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq, nv)) {
   haptic_input_t probe{};
   buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256);
   if (!lcm_.good()) return;
@@ -32,9 +34,13 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   const robot_state_t* m = &state_msg_;
   ReceivedState& r = states_.back();
   RobotSample& s = r.sample;
-  if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size()) return;
+  if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size() ||
+      static_cast<size_t>(m->nv) != s.v.size())
+    return;
   s.seq = m->seq;
   s.input_seq = m->input_seq;
+  s.input_client = m->input_client;
+  s.mode = m->mode;
   s.sim_time = m->sim_time;
   for (size_t k = 0; k < s.links.size(); ++k) {
     const auto& p = m->link_poses[k];
@@ -42,6 +48,8 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     s.links[k].R = Eigen::Quaterniond(p[3], p[4], p[5], p[6]).normalized().toRotationMatrix();
   }
   std::copy(m->q.begin(), m->q.end(), s.q.begin());
+  std::copy(m->v.begin(), m->v.end(), s.v.begin());
+  std::copy(m->qdd.begin(), m->qdd.end(), s.qdd.begin());
   r.received = monotonicSeconds();
   states_.publish();
 }

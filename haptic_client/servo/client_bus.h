@@ -25,8 +25,8 @@ struct ReceivedState {
 
 class ClientBus {
  public:
-  // nlinks, nq: the scene's model; states of another shape are ignored.
-  ClientBus(const std::string& url, int nlinks, int nq);
+  // nlinks, nq, nv: the scene's model; states of another shape are ignored.
+  ClientBus(const std::string& url, int nlinks, int nq, int nv);
   bool good() { return lcm_.good(); }
   lcm::LCM& lcm() { return lcm_; }
 

@@ -32,6 +32,7 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   if (pulling_) mode = haptic_input_t::MODE_PULL;
   else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
   if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
+  if (mode != haptic_input_t::MODE_NONE && mode != static_cast<int8_t>(input_.mode)) passivity_.restart();  // a new interaction
   msg.mode = mode;
   for (int i = 0; i < 3; ++i) {
     msg.tip_position[i] = tip[i];
@@ -42,6 +43,13 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model_.frames[static_cast<size_t>(contact_frame_)].name : "";
   msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(attach_frame_)].name : "";
   for (int i = 0; i < 3; ++i) msg.attach_point[i] = attach_point_[i];
+  input_.mode = static_cast<InteractionMode>(mode);
+  input_.tip_position = tip;
+  input_.tip_velocity = tip_velocity;
+  input_.tip_radius = scene_.push.tip_radius;
+  input_.contact_frame = mode == haptic_input_t::MODE_PUSH ? contact_frame_ : -1;
+  input_.attach_frame = mode == haptic_input_t::MODE_PULL ? attach_frame_ : -1;
+  input_.attach_point = attach_point_;
 }
 
 Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
@@ -81,11 +89,21 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   return on_user;
 }
 
-Vector3 ClientInteraction::render(const Vector3& on_user, bool lost, bool resynced_after_gap, double period,
-                                  double max_force) {
+Vector3 ClientInteraction::render(const Vector3& on_user, const Vector3& tip_velocity, bool lost,
+                                  bool resynced_after_gap, double period, const RenderLimits& limits) {
   if (resynced_after_gap) blend_.resync(10);  // back after a gap: 10 ms to the new force
   const double scale = ramp_.update(lost, period);
-  const Vector3 rendered = clampMagnitude(blend_.apply(guard_.apply(on_user) * scale, last_force_), max_force);
+  Vector3 rendered = clampMagnitude(blend_.apply(guard_.apply(on_user) * scale, last_force_), limits.max_force);
+  if (limits.passivity) {  // on the force the device can render, so the balance is what the hand gets
+    passivity_.setTolerance(limits.passivity_tolerance);
+    rendered = clampMagnitude(passivity_.apply(rendered, tip_velocity, period), limits.max_force);
+  }
+  const Vector3 step = rendered - last_force_;
+  if (step.norm() > limits.max_step) {
+    rendered = last_force_ + clampMagnitude(step, limits.max_step);
+    ++slew_limited_;
+  }
+  passivity_.commit(rendered, tip_velocity, period);
   max_force_step_ = std::max(max_force_step_, (rendered - last_force_).norm());
   last_force_ = rendered;
   return rendered;

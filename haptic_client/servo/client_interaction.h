@@ -10,6 +10,7 @@
 #include "igms/haptic_input_t.hpp"
 #include "core/geometry/tip_contact.h"
 #include "core/scene/resolved_scene.h"
+#include "core/simulation/simulation.h"
 
 namespace igms {
 
@@ -26,12 +27,20 @@ class ClientInteraction {
   // estimate `links` at simulated time `estimate_time`.
   Vector3 userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
                     const Vector3& tip_velocity);
-  // Guards: start-up guard, loss ramp, resync blend (after `resynced`), clamp.
-  Vector3 render(const Vector3& on_user, bool lost, bool resynced_after_gap, double period, double max_force);
+  // Guards: start-up guard, loss ramp, resync blend (after `resynced`), the
+  // passivity controller (on the tip's velocity), clamp, and last the
+  // per-cycle bound: whatever the path, the force reaching the hand changes
+  // by at most max_step a cycle (counted when it acts).
+  Vector3 render(const Vector3& on_user, const Vector3& tip_velocity, bool lost, bool resynced_after_gap,
+                 double period, const RenderLimits& limits);
 
   bool pulling() const { return pulling_; }
+  // The last input fillInput made, as the server's step will take it (frames, not names).
+  const InteractionInput& input() const { return input_; }
   double forceScale() const { return ramp_.scale(); }
   double maxForceStep() const { return max_force_step_; }
+  int64_t slewLimited() const { return slew_limited_; }
+  const PassivityController& passivity() const { return passivity_; }
 
  private:
   const Model& model_;
@@ -42,12 +51,15 @@ class ClientInteraction {
   StartupGuard guard_;
   LossRamp ramp_;
   ResyncBlend blend_;
+  PassivityController passivity_;
   bool pulling_ = false, push_engaged_ = false;
   TipContact contact_;
   int contact_frame_ = -1;
   Vector3 last_force_ = Vector3::Zero(), last_attach_ = Vector3::Zero(), attach_velocity_ = Vector3::Zero();
   double last_attach_time_ = -1.0;
+  InteractionInput input_;
   double max_force_step_ = 0.0;
+  int64_t slew_limited_ = 0;
   static constexpr double kEngageDepth = 0.005;  // m: a push starts at the surface
 };
 

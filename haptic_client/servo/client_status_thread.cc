@@ -62,6 +62,12 @@ void ClientStatusThread::publishStatus(double now) {
   s.mode = static_cast<int8_t>(stats_.mode.load());
   for (int k = 0; k < 3; ++k) s.rendered_force[k] = stats_.force[k];
   s.undecodable = bus_.undecodable();
+  const auto a = stats_.age_us.drain();
+  s.state_age_ms_p50 = a[0] * 1e-3; s.state_age_ms_p99 = a[1] * 1e-3; s.state_age_ms_max = a[2] * 1e-3;
+  s.prediction_ms = stats_.prediction_ms;
+  s.force_slew_limited = stats_.slew_limited;
+  s.passivity_acted = stats_.passivity_acted;
+  s.passivity_dissipated = stats_.passivity_dissipated;
   bus_.lcm().publish(channels::kClientStatus, &s);
 }
 

@@ -12,10 +12,14 @@ namespace igms {
 ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus& bus, StateEstimate& estimate,
                      std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config)
     : config_(config), period_(1.0 / config.rate_hz), sim_dt_(scene.scene.dt),
+      render_limits_{device.limits().max_force, device.limits().max_force_step, config.passivity,
+                     config.passivity_tolerance},
       map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device), limits_(device.limits()),
       bus_(bus), estimate_(estimate), links_(links), stats_(stats), interaction_(scene) {
   msg_.client_id = config.client_id;
   msg_.tip_radius = scene.scene.push.tip_radius;
+  if (estimate.policy() == FallbackPolicy::Predict)
+    local_ = std::make_unique<LocalModel>(scene, LocalModel::stepsWithin(scene, config.local_budget_us));
 }
 
 double ServoLoop::run(const std::atomic<bool>& stop) {
@@ -48,44 +52,96 @@ void ServoLoop::cycle(int64_t k, double cycle_start) {
   msg_.seq = k;
   msg_.session_token = bus_.sessionToken();
   msg_.last_state_seq = estimate_.any() ? estimate_.newest().seq : -1;
-  const double sent = monotonicSeconds();
+  sent_[k % kSentRing] = monotonicSeconds();
   bus_.publishInput(msg_);
+  InteractionInput sent = interaction_.input();
+  sent.seq = k;
+  sent.client = config_.client_id;
+  sent_inputs_.put(k, sent);
   stats_.mode = msg_.mode;
-  // 3. This cycle's state, until the deadline; 4. the force.
-  render(tip, tip_velocity, awaitState(k, cycle_start, sent));
+  // 3. The states; 4. the force.
+  render(k, tip, tip_velocity, awaitState(k, cycle_start));
   ++stats_.cycles;
 }
 
-// Takes the states that arrive until this cycle's reply or the deadline.
-bool ServoLoop::awaitState(int64_t k, double cycle_start, double sent) {
+// One state from the bus: into the estimate if newer, and its round trip if it echoes one of our inputs.
+void ServoLoop::take(const ReceivedState& r) {
+  const double previous = estimate_.any() ? estimate_.newestReceived() : r.received;
+  if (!estimate_.offer(r.sample, r.received)) {
+    ++stats_.late;
+    return;
+  }
+  // Back after a gap in arrivals: the force moves to its new value over a few cycles.
+  if (r.received - previous > 3.0 * period_) resync_ = true;
+  const int64_t echoed = r.sample.input_seq;
+  if (r.sample.input_client != config_.client_id || echoed < 1 || echoed <= msg_.seq - kSentRing) return;
+  const double rtt = r.received - sent_[echoed % kSentRing];
+  if (rtt < 0.0) return;
+  stats_.rtt.push(rtt * 1e6);
+  stats_.rtt_all.add(rtt * 1e6);
+  if (r.received - rtt_window_start_ > 0.5) {
+    rtt_min_before_ = rtt_min_now_;
+    rtt_min_now_ = 1e9;
+    rtt_window_start_ = r.received;
+  }
+  rtt_min_now_ = std::min(rtt_min_now_, rtt);
+}
+
+// Half the smallest round trip of the last 0.5-1 s (0 before any echo).
+double ServoLoop::oneWayDelay() const {
+  const double m = std::min(rtt_min_now_, rtt_min_before_);
+  return m < 1e8 ? 0.5 * m : 0.0;
+}
+
+// Takes the states that arrive. While echoes come back within the deadline,
+// waits that long for this cycle's; otherwise (a far server, or a realtime
+// one whose reply this cycle's input cannot hurry) goes on with the newest.
+bool ServoLoop::awaitState(int64_t k, double cycle_start) {
   const double deadline = cycle_start + config_.deadline_us * 1e-6;
+  const bool wait = 2.0 * oneWayDelay() < config_.deadline_us * 1e-6;
+  bool echoed = false;
   for (;;) {
     ReceivedState* r = nullptr;
     if (bus_.states().take(&r)) {
-      if (!estimate_.offer(r->sample)) ++stats_.late;
-      if (r->sample.input_seq >= k) {
-        const double rtt_us = (r->received - sent) * 1e6;
-        stats_.rtt.push(rtt_us);
-        stats_.rtt_all.add(rtt_us);
-        return true;
-      }
+      take(*r);
+      echoed |= r->sample.input_client == config_.client_id && r->sample.input_seq >= k;
+      if (echoed) return true;
     }
-    if (monotonicSeconds() >= deadline) return false;
+    if (!wait || monotonicSeconds() >= deadline) return echoed;
     // Within the deadline window: yield rather than sleep (a sleep's wake-up
     // costs tens of microseconds on a VM), so the bus thread runs at once.
     sched_yield();
   }
 }
 
-void ServoLoop::render(const Vector3& tip, const Vector3& tip_velocity, bool on_time) {
-  if (estimate_.any()) {
-    // The reply to input k is the state one simulation step after the reply to k-1.
-    expected_time_ = on_time ? estimate_.newest().sim_time : expected_time_ + sim_dt_;
-    bool fallback = false;
-    estimate_.estimate(expected_time_, links_, &fallback);
-    if (fallback) ++stats_.fallbacks;
+double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
+  const RobotSample& newest = estimate_.newest();
+  // The inputs the newest state has not seen: those after the one it echoes.
+  const bool echoes = newest.input_client == config_.client_id && newest.input_seq >= 1 && newest.input_seq <= k &&
+                      k - newest.input_seq < SentInputs::kCapacity;
+  const double horizon = echoes ? static_cast<double>(k - newest.input_seq) * sim_dt_ : age;
+  estimate_time_ = newest.sim_time + horizon;
+  if (local_ && echoes && local_->run(newest, sent_inputs_, newest.input_seq, k, links_)) {
+    if (!on_time) ++stats_.fallbacks;
+    return horizon;
   }
-  const bool resynced = on_time && consecutive_misses_ >= 3;
+  bool fallback = false;
+  estimate_.estimate(estimate_time_, links_, &fallback);
+  if (fallback && !on_time) ++stats_.fallbacks;  // rendered without this cycle's reply
+  return horizon;
+}
+
+void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time) {
+  const double now = monotonicSeconds();
+  double age_ms = 0.0;
+  if (estimate_.any()) {
+    // The newest state's age: since it arrived, plus the way it came.
+    const double age = now - estimate_.newestReceived() + oneWayDelay();
+    age_ms = age * 1e3;
+    stats_.age_us.push(age * 1e6);
+    stats_.age_all.add(age * 1e6);
+    stats_.prediction_ms = estimateRobot(k, age, on_time) * 1e3;
+  }
   if (on_time) {
     consecutive_misses_ = 0;
   } else {
@@ -93,14 +149,18 @@ void ServoLoop::render(const Vector3& tip, const Vector3& tip_velocity, bool on_
     stats_.max_consecutive = std::max<int64_t>(stats_.max_consecutive, ++consecutive_misses_);
   }
   const Vector3 on_user =
-      estimate_.any() ? interaction_.userForce(links_, expected_time_, tip, tip_velocity) : Vector3::Zero();
-  // Lost: no state for lost_ms; the force ramps down, and back up when states return.
-  const double age_ms = static_cast<double>(consecutive_misses_) * period_ * 1e3;
-  const bool lost = estimate_.any() && age_ms > config_.lost_ms;
+      estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity) : Vector3::Zero();
+  // Lost: no new state for lost_ms; the force ramps down, and back up when states return.
+  const bool lost = estimate_.any() && (now - estimate_.newestReceived()) * 1e3 > config_.lost_ms;
   stats_.lost = lost;
-  const Vector3 rendered = interaction_.render(on_user, lost, resynced, period_, limits_.max_force);
+  const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
+  resync_ = false;
   device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
   stats_.max_force_step = interaction_.maxForceStep();
+  stats_.slew_limited = interaction_.slewLimited();
+  stats_.passivity_acted = interaction_.passivity().acted();
+  stats_.passivity_dissipated = interaction_.passivity().dissipated();
+  stats_.passivity_min_energy = interaction_.passivity().minEnergy();
   stats_.force_scale = interaction_.forceScale();
   for (int i = 0; i < 3; ++i) stats_.force[i] = rendered[i];
   stats_.state_age_ms = age_ms;

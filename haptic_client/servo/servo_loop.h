@@ -1,22 +1,32 @@
 // The 1 kHz servo loop on absolute deadlines. Each cycle:
 //   1. read the device and map it into the scene;
 //   2. send the input (push contact as seen, or pull attachment) with seq k;
-//   3. wait for the server's state for this cycle only until the deadline;
-//   4. on time: use it; late: a fallback estimate (hold / extrapolate / interpolate);
-//      the contact force (eq. 3) or the spring force (eq. 4) against the
-//      estimate, and its reaction rendered through the guards (start-up
-//      guard, server-lost ramp, resync blend, the device's limit).
+//   3. take every state newer than the one it has; while echoes come back
+//      within the deadline (a near server), wait that long for this cycle's;
+//   4. estimate the robot as it will be when this cycle's input reaches the
+//      server: the newest state carried over the inputs it has not seen yet
+//      (the ones after the input it echoes; without an echo, over its age:
+//      the time since it arrived plus half the smallest round trip of the
+//      last second). With the predict policy that is the local model while
+//      any of those inputs interacts, else q + v h + qdd h^2/2; hold,
+//      extrapolate and interpolate work on link poses as before. Then the
+//      contact force (eq. 3) or the spring force (eq. 4) against it, rendered
+//      through the guards (start-up guard, server-lost ramp, resync blend,
+//      passivity controller, the device's limit, the per-cycle bound).
+//      "Server lost" is no new state for lost_ms, whatever the echoes.
 // Nothing in a cycle allocates, locks or does I/O beyond the non-blocking
 // publish of its input.
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <vector>
 
 #include "haptic_client/device/haptic_device.h"
 #include "haptic_client/device/workspace_map.h"
 #include "haptic_client/servo/client_bus.h"
 #include "haptic_client/servo/client_interaction.h"
+#include "haptic_client/servo/local_model.h"
 #include "haptic_client/servo/servo_stats.h"
 
 namespace igms {
@@ -24,9 +34,12 @@ namespace igms {
 struct ServoConfig {
   double rate_hz = 1000.0;
   double deadline_us = 900.0;  // wait for this cycle's state at most this long after the cycle starts
-  double lost_ms = 50.0;       // no state for this long: the server is lost, forces ramp down
+  double lost_ms = 50.0;       // no new state for this long: the server is lost, forces ramp down
   double duration = 0.0;       // s; 0: until the device's script ends (or forever)
   int client_id = 1;
+  double local_budget_us = 300.0;  // the local model's compute per cycle (sets how many steps it may take)
+  bool passivity = true;           // the time-domain passivity controller at the device port
+  double passivity_tolerance = 0.025;  // J the energy balance may dip before it acts
 };
 
 class ServoLoop {
@@ -39,11 +52,16 @@ class ServoLoop {
 
  private:
   void cycle(int64_t k, double cycle_start);
-  bool awaitState(int64_t k, double cycle_start, double sent);
-  void render(const Vector3& tip, const Vector3& tip_velocity, bool on_time);
+  bool awaitState(int64_t k, double cycle_start);
+  void take(const ReceivedState& r);
+  void render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time);
+  double oneWayDelay() const;
+  // The robot for this cycle's force (into links_); returns the horizon, s.
+  double estimateRobot(int64_t k, double age, bool on_time);
 
   const ServoConfig config_;
   const double period_, sim_dt_;
+  const RenderLimits render_limits_;
   const WorkspaceMap map_;
   HapticDevice& device_;
   const DeviceLimits limits_;
@@ -52,9 +70,17 @@ class ServoLoop {
   std::vector<SE3>& links_;
   ServoStats& stats_;
   ClientInteraction interaction_;
+  SentInputs sent_inputs_;
+  std::unique_ptr<LocalModel> local_;  // with the predict policy
   haptic_input_t msg_{};
   int64_t consecutive_misses_ = 0;
-  double expected_time_ = 0.0;  // simulated time of this cycle's state
+  double estimate_time_ = 0.0;  // simulated time the estimate is for (the newest state's plus its age)
+  bool resync_ = false;         // a state arrived after a gap in arrivals
+  // Round trips from the echoes: when each input was sent (by seq), and the
+  // smallest round trip in this and the last half second.
+  static constexpr int64_t kSentRing = 4096;
+  double sent_[kSentRing] = {};
+  double rtt_min_now_ = 1e9, rtt_min_before_ = 1e9, rtt_window_start_ = 0.0;
 };
 
 }  // namespace igms

@@ -38,41 +38,47 @@ class SampleRing {
   uint64_t read_ = 0;
 };
 
-// Whole-run distribution of a time in microseconds: 1 us bins up to 20 ms,
-// preallocated, filled by the servo loop, read at the end.
+// Whole-run distribution of a time in microseconds: 20 000 bins of bin_us
+// (1 us: up to 20 ms), preallocated, filled by the servo loop, read at the end.
 class Histogram {
  public:
+  explicit Histogram(double bin_us = 1.0) : bin_us_(bin_us) {}
   void add(double us) {
-    ++bins_[static_cast<size_t>(std::clamp(us, 0.0, static_cast<double>(bins_.size() - 1)))];
+    ++bins_[static_cast<size_t>(std::clamp(us / bin_us_, 0.0, static_cast<double>(bins_.size() - 1)))];
     ++n_;
   }
   double percentile(double p) const {
     const auto want = static_cast<int64_t>(p * static_cast<double>(n_));
     int64_t seen = 0;
     for (size_t b = 0; b < bins_.size(); ++b)
-      if ((seen += bins_[b]) > want) return static_cast<double>(b);
-    return static_cast<double>(bins_.size() - 1);
+      if ((seen += bins_[b]) > want) return static_cast<double>(b) * bin_us_;
+    return static_cast<double>(bins_.size() - 1) * bin_us_;
   }
   double max() const {
     for (size_t b = bins_.size(); b-- > 0;)
-      if (bins_[b]) return static_cast<double>(b);
+      if (bins_[b]) return static_cast<double>(b) * bin_us_;
     return 0.0;
   }
   int64_t count() const { return n_; }
 
  private:
+  double bin_us_;
   std::array<int64_t, 20000> bins_{};
   int64_t n_ = 0;
 };
 
 struct ServoStats {
-  std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0};
-  std::atomic<double> state_age_ms{0}, force_scale{1}, max_force_step{0};
+  std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0}, slew_limited{0},
+      passivity_acted{0};
+  std::atomic<double> state_age_ms{0}, prediction_ms{0}, force_scale{1}, max_force_step{0}, passivity_dissipated{0},
+      passivity_min_energy{0};
   std::atomic<int> mode{0};
   std::atomic<double> force[3] = {0, 0, 0};
   std::atomic<bool> lost{false}, finished{false};
-  SampleRing jitter, rtt;
-  Histogram rtt_all, jitter_all;
+  SampleRing jitter, rtt, age_us;
+  Histogram rtt_all{10.0};  // 10 us bins: round trips up to 200 ms
+  Histogram jitter_all;
+  Histogram age_all{10.0};  // 10 us bins: state ages up to 200 ms
 };
 
 }  // namespace igms

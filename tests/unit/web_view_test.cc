@@ -139,6 +139,19 @@ TEST(SessionScene, DescribesLinksObstaclesAndPaths) {
   EXPECT_NEAR(h["push"]["k_p"].get<double>(), 2000.0, 1e-9);
 }
 
+// Found by bus_fuzz_test: a session_info whose strings are not UTF-8 made the
+// hello's JSON throw, which ended igms-viewer. Now the bytes become U+FFFD.
+TEST(SessionScene, StringsThatAreNotUtf8DoNotThrow) {
+  igms::session_info_t info = sessionFor("/nonexistent/\xfa\xfb.yaml");
+  info.build_version = "\xff\xfe";
+  info.scene_text = "name: \xfa\n";
+  igms::web::SessionScene s;
+  ASSERT_NO_THROW(s = igms::web::describeSession(info, [](const std::string&) { return "/x"; }));
+  const nlohmann::json h = nlohmann::json::parse(s.hello_json);
+  EXPECT_NE(h["build"].get<std::string>().find("\xef\xbf\xbd"), std::string::npos) << "U+FFFD in place of 0xFF";
+  EXPECT_NE(s.error, "") << "and the scene error is named";
+}
+
 TEST(SessionScene, MeshesAreServedAndMissingOnesNamed) {
   const fs::path d = tempDir("scene");
   write(d / "armpkg/urdf/arm.urdf", kArm);

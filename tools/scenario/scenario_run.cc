@@ -51,7 +51,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     }
     links = sim.linkPoses();
     const Vector3 on_user = device ? client.userForce(links, sim.time(), tip, tip_velocity) : Vector3::Zero();
-    const Vector3 rendered = client.render(on_user, false, false, period, 1e9);
+    const Vector3 rendered = client.render(on_user, tip_velocity, false, false, period, RenderLimits{});
     if (device) device->write(rendered);
     ScenarioSample s;
     s.t = sim.time();

@@ -1,0 +1,68 @@
+#include "haptic_client/servo/local_model.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/model/configuration.h"
+
+namespace igms {
+
+LocalModel::LocalModel(const ResolvedScene& scene, int max_steps)
+    : sim_(scene), max_steps_(max_steps), q_(VectorX::Zero(scene.model->nq)), v_(VectorX::Zero(scene.model->nv)),
+      qdd_(VectorX::Zero(scene.model->nv)), q_next_(VectorX::Zero(scene.model->nq)),
+      v_mid_(VectorX::Zero(scene.model->nv)) {}
+
+int LocalModel::stepsWithin(const ResolvedScene& scene, double budget_us) {
+  Simulation sim(scene);
+  InteractionInput push;  // a push at the first link's origin: the coupled step, the dearer one
+  push.mode = InteractionMode::Push;
+  push.tip_position = sim.linkPoses().back().p;
+  for (int k = 0; k < 20; ++k) sim.step(&push);  // warm
+  const int n = 100;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < n; ++k) sim.step(&push);
+  const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / n;
+  return std::clamp(static_cast<int>(budget_us / std::max(us, 1e-3)), 5, 200);
+}
+
+void LocalModel::kinematicStep(double h) {
+  v_mid_ = v_ + 0.5 * h * qdd_;
+  integrateConfiguration(sim_.model(), q_, v_mid_, h, q_next_);
+  q_ = q_next_;
+  v_ += h * qdd_;
+}
+
+bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to,
+                     std::vector<SE3>& links) {
+  last_steps_ = 0;
+  int64_t first = -1;
+  for (int64_t s = std::max(from + 1, to - SentInputs::kCapacity + 1); s <= to; ++s)
+    if (inputs.at(s).mode != InteractionMode::None) {
+      first = s;
+      break;
+    }
+  if (first < 0) return false;
+  const double dt = sim_.scene().dt;
+  const int nq = sim_.model().nq, nv = sim_.model().nv;
+  for (int i = 0; i < nq; ++i) q_[i] = state.q[static_cast<size_t>(i)];
+  for (int i = 0; i < nv; ++i) v_[i] = state.v[static_cast<size_t>(i)];
+  for (int i = 0; i < nv; ++i) qdd_[i] = state.qdd[static_cast<size_t>(i)];
+  // Up to the first interaction: as the state was going (the server's own trajectory).
+  double t = state.sim_time;
+  int64_t s = from + 1;
+  for (; s < first; ++s, t += dt) kinematicStep(dt);
+  sim_.setState(t, q_, v_, qdd_, state.mode != 0);
+  // Then the server's step itself, input by input.
+  for (; s <= to && last_steps_ < max_steps_; ++s, ++last_steps_)
+    if (!sim_.step(&inputs.at(s))) break;
+  q_ = sim_.q();
+  v_ = sim_.v();
+  qdd_ = sim_.qdd();
+  for (; s <= to; ++s) kinematicStep(dt);  // beyond the budget
+  sim_.setState(t, q_, v_, qdd_, false);
+  const std::vector<SE3>& poses = sim_.linkPoses();
+  std::copy(poses.begin(), poses.end(), links.begin());
+  return true;
+}
+
+}  // namespace igms

@@ -1,0 +1,53 @@
+// The client's local model of the robot (a local proxy, as in remote dynamic
+// proxies and Glencross et al.): while the user pushes or pulls, the robot
+// the user feels is the newest server state carried forward through the
+// client's own copy of the server's step (core Simulation: the hold
+// controller, the coupling of eq. 3 / eq. 4, the scene's integrator) under
+// the inputs the server has not applied yet. So the robot gives way to the
+// hand at once, whatever the delay, and each new server state re-bases it.
+// Stretches without interaction are carried kinematically (q + v h + qdd h^2/2):
+// the trajectory the server follows after an edit is its own.
+// Built once (allocates); run() does not allocate.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/simulation/simulation.h"
+#include "haptic_client/servo/state_estimate.h"
+
+namespace igms {
+
+// The inputs a client sent, by seq, as the server's step takes them.
+class SentInputs {
+ public:
+  static constexpr int64_t kCapacity = 4096;
+  void put(int64_t seq, const InteractionInput& in) { ring_[static_cast<size_t>(seq % kCapacity)] = in; }
+  const InteractionInput& at(int64_t seq) const { return ring_[static_cast<size_t>(seq % kCapacity)]; }
+
+ private:
+  std::vector<InteractionInput> ring_ = std::vector<InteractionInput>(kCapacity);
+};
+
+class LocalModel {
+ public:
+  LocalModel(const ResolvedScene& scene, int max_steps);
+  // How many of this scene's steps fit in budget_us, timed here (5 to 200).
+  static int stepsWithin(const ResolvedScene& scene, double budget_us);
+
+  // The robot after the inputs (from, to] (seqs) applied to `state`, one step
+  // each (at most max_steps; beyond, carried kinematically). false when none
+  // of them interacts: then the caller's kinematic prediction is as good.
+  bool run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to, std::vector<SE3>& links);
+  int lastSteps() const { return last_steps_; }
+
+ private:
+  void kinematicStep(double h);
+
+  Simulation sim_;
+  const int max_steps_;
+  VectorX q_, v_, qdd_, q_next_, v_mid_;
+  int last_steps_ = 0;
+};
+
+}  // namespace igms

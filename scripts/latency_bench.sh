@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The paper's push and pull through igms-relay at one-way delays of 0 to 50 ms
+# (constant and +-50 % jitter) and 10 % loss, the server on its realtime clock,
+# inside a private network namespace; prints the table (bench/latency_bench.py).
+#   scripts/latency_bench.sh [--quick] [--seconds 7] [--out DIR] [-- igms-haptic options]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/lib/session.sh
+igms_in_netns "$0" "$@"
+exec /usr/bin/python3 bench/latency_bench.py "$@"

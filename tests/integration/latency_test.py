@@ -1,0 +1,54 @@
+#!/usr/bin/python3
+"""The haptic loop across a rehearsed network, over the real bus: igms-server on
+its realtime clock, igms-relay delaying, jittering and dropping both directions,
+igms-haptic on the paper's push and pull scripts (bench/latency_bench.py
+--quick). Each case must hold the servo rate, never step the rendered force by
+more than 1 N a cycle, never declare the server lost, keep the passivity
+observer's energy balance where physics alone puts it, and end collision-free
+at the wall; the push 20 ms away (+-10 ms) too.
+  latency_test.py BUILD_DIR   (inside scripts/netns_run.sh)"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def main():
+    build = os.path.abspath(sys.argv[1])
+    failures = []
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "results.json")
+        subprocess.run([sys.executable, os.path.join(ROOT, "bench/latency_bench.py"), "--quick", "--build", build,
+                        "--out", tmp, "--port", "7850", "--json", out], check=True)
+        for r in json.load(open(out)):
+            case = f"{r['experiment']} at {r['delay_ms']:g} ms +-{r['jitter_ms']:g} ms, {r['loss'] * 100:g} % loss"
+
+            def check(ok, what):
+                print(f"{'ok  ' if ok else 'FAIL'} {case}: {what}")
+                if not ok:
+                    failures.append(f"{case}: {what}")
+
+            check(r["cycles"] == 7000, f"the client ran its 7000 cycles ({r['cycles']})")
+            check(r["rate_hz"] is not None and r["rate_hz"] >= 950, f"servo rate {r['rate_hz']} Hz >= 950 Hz")
+            check(r["max_force_step_N"] is not None and r["max_force_step_N"] <= 1.0 + 1e-9,
+                  f"largest force step {r['max_force_step_N']} N <= 1 N")
+            check(not r["server_lost"], "the server was never declared lost")
+            check(r["state_age_p99_ms"] is not None and r["state_age_p99_ms"] < r["delay_ms"] + r["jitter_ms"] + 5,
+                  f"state age p99 {r['state_age_p99_ms']} ms is the path's delay, not a pile-up")
+            # No energy made by delay: the balance stays near the zero-delay push's -17 mJ (the robot handing back
+            # its own motion); the controller holds it at -25 mJ, and its 1 N cap may let a cycle's worth past.
+            check(r["lowest_energy_mJ"] is not None and r["lowest_energy_mJ"] >= -30.0,
+                  f"lowest energy balance {r['lowest_energy_mJ']} mJ >= -30 mJ")
+            check(r["collision_free"], "collision-free")
+            check(r["reached_wall"], "reached the wall")
+    if failures:
+        print(f"{len(failures)} checks failed", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,163 @@
+// The client's local model is the server's own step: re-based on a server
+// state and fed the inputs the server will apply, it must land on the state
+// the server reaches, to rounding, on a fixed arm pushed on a link and a
+// floating quadruped pulled by its trunk. And the passivity controller: the
+// energy balance it keeps, on a port that hands out energy.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "core/kinematics/forward_kinematics.h"
+#include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/local_model.h"
+#include "haptic_client/servo/state_estimate.h"
+#include "tests/support/malloc_counter.h"
+#include "tests/support/test_models.h"
+
+namespace igms {
+namespace {
+
+RobotSample sampleOf(Simulation& sim, int64_t input_seq) {
+  RobotSample s;
+  s.seq = sim.steps();
+  s.input_seq = input_seq;
+  s.input_client = 1;
+  s.mode = static_cast<int8_t>(sim.outcome().mode);
+  s.sim_time = sim.time();
+  s.links = sim.linkPoses();
+  s.q.assign(sim.q().data(), sim.q().data() + sim.q().size());
+  s.v.assign(sim.v().data(), sim.v().data() + sim.v().size());
+  s.qdd.assign(sim.qdd().data(), sim.qdd().data() + sim.qdd().size());
+  return s;
+}
+
+double worstError(const std::vector<SE3>& a, const std::vector<SE3>& b) {
+  double e = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) e = std::max(e, (a[k].p - b[k].p).norm());
+  return e;
+}
+
+struct Case {
+  const char* scene;
+  InteractionMode mode;
+  const char* link;
+  Vector3 offset;  // push: tip from the link origin; pull: the tip's displacement from the attachment
+};
+
+TEST(LocalModel, ReproducesTheServersStepUnderTheSameInputs) {
+  for (const Case& c : {Case{"puma_obstacle.yaml", InteractionMode::Push, "link2", Vector3(0.2, 0.0, 0.075)},
+                        Case{"quadruped_float.yaml", InteractionMode::Pull, "trunk", Vector3(0.05, 0.02, 0.03)}}) {
+    const ResolvedScene scene = resolveScene(loadScene(test::sourceDir() + "/scenes/" + c.scene));
+    Simulation server(scene);
+    for (int k = 0; k < 300; ++k) ASSERT_TRUE(server.step(nullptr));
+    const int frame = scene.model->frameIndex(c.link);
+    ASSERT_GE(frame, 0);
+    // The inputs: 40 ms of a tip moving 5 mm/s into (push) or away from (pull) the link.
+    SentInputs inputs;
+    const Vector3 start = server.linkPoses()[static_cast<size_t>(frame)].act(c.offset);
+    for (int64_t s = 1; s <= 40; ++s) {
+      InteractionInput in;
+      in.mode = c.mode;
+      in.tip_position = start + Vector3(0.0, 0.0, -0.005 * 0.001 * static_cast<double>(s));
+      in.tip_velocity = Vector3(0.0, 0.0, -0.005);
+      in.contact_frame = c.mode == InteractionMode::Push ? frame : -1;
+      in.attach_frame = c.mode == InteractionMode::Pull ? frame : -1;
+      in.seq = s;
+      in.client = 1;
+      inputs.put(s, in);
+    }
+    LocalModel local(scene, 200);
+    std::vector<SE3> links(scene.model->frames.size());
+    EXPECT_FALSE(local.run(sampleOf(server, 0), SentInputs{}, 0, 40, links)) << "no interaction: not its business";
+    // The server at 10 ms (state echoing input 10) and at 40 ms (after all of them).
+    for (int64_t s = 1; s <= 10; ++s) ASSERT_TRUE(server.step(&inputs.at(s)));
+    const RobotSample at10 = sampleOf(server, 10);
+    EXPECT_GT(server.outcome().force_on_robot.norm(), 0.1) << c.scene << ": the input acts on the robot";
+    for (int64_t s = 11; s <= 40; ++s) ASSERT_TRUE(server.step(&inputs.at(s)));
+    const std::vector<SE3> truth = server.linkPoses();
+    ASSERT_TRUE(local.run(at10, inputs, 10, 40, links));
+    EXPECT_EQ(local.lastSteps(), 30);
+    const double e = worstError(links, truth), moved = worstError(at10.links, truth);
+    std::printf("%-22s local model 30 steps ahead: %.2e m off the server's links (the robot moved %.2e m)\n", c.scene,
+                e, moved);
+    EXPECT_GT(moved, 1e-5) << c.scene;
+    EXPECT_LT(e, 1e-9) << c.scene;
+    // A step budget: the rest carried kinematically, still close.
+    LocalModel budget(scene, 10);
+    ASSERT_TRUE(budget.run(at10, inputs, 10, 40, links));
+    EXPECT_EQ(budget.lastSteps(), 10);
+    EXPECT_LT(worstError(links, truth), 0.2 * moved) << c.scene;
+  }
+}
+
+// The servo loop's side: re-basing, the steps and the prediction allocate nothing.
+TEST(LocalModel, RunAndPredictDoNotAllocate) {
+  const ResolvedScene scene = resolveScene(loadScene(test::sourceDir() + "/scenes/quadruped_float.yaml"));
+  Simulation server(scene);
+  for (int k = 0; k < 50; ++k) ASSERT_TRUE(server.step(nullptr));
+  SentInputs inputs;
+  for (int64_t s = 1; s <= 60; ++s) {
+    InteractionInput in;
+    in.mode = InteractionMode::Pull;
+    in.tip_position = Vector3(0.1, 0.0, 0.6);
+    in.attach_frame = 0;
+    inputs.put(s, in);
+  }
+  LocalModel local(scene, 40);
+  StateEstimate estimate(*scene.model, FallbackPolicy::Predict, 0.1);
+  const RobotSample state = sampleOf(server, 5);
+  std::vector<SE3> links(scene.model->frames.size());
+  local.run(state, inputs, 5, 60, links);  // warm
+  estimate.offer(state, 0.0);
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 10; ++k) {
+      local.run(state, inputs, 5, 60, links);
+      estimate.estimate(state.sim_time + 0.02, links, nullptr);
+    }
+  });
+  EXPECT_EQ(n, 0u);
+}
+
+TEST(LocalModel, StepsWithinABudgetAreTimedAndBounded) {
+  const ResolvedScene scene = resolveScene(loadScene(test::sourceDir() + "/scenes/puma_obstacle.yaml"));
+  const int n = LocalModel::stepsWithin(scene, 300.0);
+  std::printf("puma: %d steps in 300 us\n", n);
+  EXPECT_GE(n, 5);
+  EXPECT_LE(n, 200);
+  EXPECT_EQ(LocalModel::stepsWithin(scene, 1e-3), 5);
+}
+
+// A port that hands out energy: the force follows the velocity (f = +b v on
+// the user, negative damping). Without the controller the balance falls
+// without bound; with it, it stays at -tolerance less one cycle's worth.
+TEST(Passivity, TheControllerKeepsTheBalanceAboveTheTolerance) {
+  const double dt = 0.001, tolerance = 0.01;
+  PassivityController observer(tolerance), controller(tolerance, 1e9, 1e9);
+  for (int k = 0; k < 3000; ++k) {
+    const Vector3 v(0.2 * std::sin(0.01 * k), 0.1, 0.0);
+    const Vector3 f = 20.0 * v;
+    observer.commit(f, v, dt);
+    controller.commit(controller.apply(f, v, dt), v, dt);
+  }
+  std::printf("negative damping for 3 s: balance %.4f J without the controller, %.4f J with it (took out %.4f J in "
+              "%lld cycles)\n",
+              observer.energy(), controller.energy(), controller.dissipated(),
+              static_cast<long long>(controller.acted()));
+  EXPECT_LT(observer.energy(), -0.5);
+  EXPECT_GE(controller.minEnergy(), -tolerance - 1e-12);
+  EXPECT_GT(controller.acted(), 2000);
+  // A passive port (a spring and damper) is left alone.
+  PassivityController passive(tolerance);
+  double x = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    const Vector3 v(0.2 * std::cos(0.01 * k), 0.0, 0.0);
+    x += v.x() * dt;
+    const Vector3 f(-(300.0 * x + 5.0 * v.x()), 0.0, 0.0);  // a spring-damper wall pushing back on the user
+    passive.commit(passive.apply(f, v, dt), v, dt);
+  }
+  EXPECT_EQ(passive.acted(), 0);
+  EXPECT_GE(passive.minEnergy(), -1e-4);
+}
+
+}  // namespace
+}  // namespace igms
