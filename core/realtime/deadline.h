@@ -45,6 +45,19 @@ class PeriodicDeadline {
     clock_gettime(CLOCK_MONOTONIC, &now);
     return isBefore(next_, now);
   }
+  // The current deadline, s on CLOCK_MONOTONIC (monotonicSeconds()'s clock).
+  double at() const { return static_cast<double>(next_.tv_sec) + 1e-9 * static_cast<double>(next_.tv_nsec); }
+  // The catch-up rule's second half: more than max_late periods behind, the
+  // train restarts from now and the missed periods are skipped (returned).
+  int64_t skipIfBehind(int64_t max_late) {
+    timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    const int64_t late_ns = (now.tv_sec - next_.tv_sec) * 1000000000LL + (now.tv_nsec - next_.tv_nsec);
+    const int64_t periods = late_ns / period_ns_;
+    if (periods <= max_late) return 0;
+    next_ = addNanoseconds(next_, periods * period_ns_);
+    return periods;
+  }
 
  private:
   int64_t period_ns_;

@@ -52,6 +52,11 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
     if (!p.stretch_capped && !p.clamped) out.K = c.pull_k * Matrix3::Identity();
     if (!p.clamped) out.B = c.pull_b * Matrix3::Identity();
   }
+  if (out.coupled && c.scale != 1.0) {
+    out.on_robot *= c.scale;
+    out.K *= c.scale;
+    out.B *= c.scale;
+  }
 }
 
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out) {

@@ -28,6 +28,7 @@ struct Coupling {
   int attach_frame = -1;   // pull: the attachment link
   Vector3 attach_point = Vector3::Zero();  // pull: in the attachment link's frame
   double push_k_p = 0.0, pull_k = 0.0, pull_b = 0.0;
+  double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
 };
 
 struct CoupledInputs {

@@ -20,6 +20,9 @@ constexpr double kRecordPeriod = 0.01;          // s
 constexpr int kRecordCapacity = 60000;          // 10 minutes at 100 Hz
 constexpr double kDivergedSpeed = 1e4;          // rad/s or m/s: no robot moves like this
 constexpr double kResumeSpeed = 1.0;            // rad/s, mean speed of a resume trajectory
+constexpr int kResumeGapSteps = 20;             // steps without any input: a gap
+constexpr int64_t kResumeSeqJump = 100;         // a client's seq jumping this far: a gap (jitter stays below)
+constexpr double kResumeRamp = 0.1;             // s to bring the coupling back in after a gap
 }  // namespace
 
 Simulation::Simulation(ResolvedScene resolved)
@@ -85,6 +88,10 @@ void Simulation::reset() {
   next_record_t_ = 0.0;
   coupling_ = Coupling{};
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
+  last_input_seq_ = -1;
+  last_input_client_ = -1;
+  steps_without_input_ = 0;
+  resume_ramps_ = 0;
   record(true);
 }
 
@@ -97,6 +104,9 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   t_ = t;
   interacting_ = interacting;
   diverged_ = false;
+  last_input_seq_ = -1;  // a re-based copy does not know the server's gaps
+  steps_without_input_ = 0;
+  coupling_.scale = 1.0;
 }
 
 void Simulation::setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points) {
@@ -125,6 +135,23 @@ void Simulation::computeControl(const InteractionInput* in) {
     outcome_.input_client = in->client;
   }
   coupling_.mode = user ? in->mode : InteractionMode::None;
+  // The resume ramp (see simulation.h).
+  // A gap between inputs (not before the first one): steps without any, or the client's seq jumping.
+  const bool gap = last_input_seq_ >= 0 &&
+                   (steps_without_input_ >= kResumeGapSteps ||
+                    (in && in->client == last_input_client_ && in->seq - last_input_seq_ > kResumeSeqJump));
+  if (user && gap) {
+    coupling_.scale = 0.0;
+    ++resume_ramps_;
+  }
+  if (coupling_.scale < 1.0) coupling_.scale = std::min(1.0, coupling_.scale + scene_.dt / kResumeRamp);
+  if (in) {
+    last_input_seq_ = in->seq;
+    last_input_client_ = in->client;
+    steps_without_input_ = 0;
+  } else {
+    ++steps_without_input_;
+  }
   if (user) {
     coupling_.tip = in->tip_position;
     coupling_.tip_velocity = in->tip_velocity;

@@ -10,7 +10,12 @@
 //     dynamics (PD on the error), accelerations by forward dynamics (eq. 2);
 //   update the state (the scene's integrator).
 // When an interaction ends, a new C2 (quintic) trajectory starts from the
-// current q, v, qdd toward the goal. The executed motion is recorded as the
+// current q, v, qdd toward the goal. When an interaction comes back after a
+// gap between inputs (20 steps without one, or the client's seq jumping by
+// more than 100: a stalled server, a stalled client, inputs lost), the user's
+// coupling is brought back in over 100 ms instead of as one step: the push
+// the hand stored up meanwhile reaches the robot as a ramp. The rule reads the
+// inputs only, so re-simulating a log reproduces it. The executed motion is recorded as the
 // edited trajectory.
 //
 // Built once from a Scene (allocates); step() never allocates.
@@ -97,6 +102,8 @@ class Simulation {
   void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
   // Interaction gains (push k_p, pull k, pull b), e.g. from a SET_GAINS command.
   void setGains(double push_k_p, double pull_k, double pull_b);
+  // Resume ramps so far: interactions brought back in over kResumeRamp after a gap.
+  int64_t resumeRamps() const { return resume_ramps_; }
 
   // The executed motion, sampled every 10 ms (up to 10 minutes).
   int editedCount() const { return edited_count_; }
@@ -132,6 +139,10 @@ class Simulation {
   bool diverged_ = false;
   std::string divergence_;
   int64_t forces_clamped_ = 0;
+  int64_t last_input_seq_ = -1;   // the resume ramp's view of the inputs
+  int32_t last_input_client_ = -1;
+  int steps_without_input_ = 0;
+  int64_t resume_ramps_ = 0;
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
   std::vector<double> edited_t_;

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "core/realtime/clock.h"
+#include "core/realtime/realtime_priority.h"
 #include "core/scene/resolved_scene.h"
 #include "haptic_client/device/device_registry.h"
 #include "haptic_client/servo/client_bus.h"
@@ -41,6 +42,7 @@ void printSummary(const ServoStats& s, double wall) {
                "fallbacks, %lld late replies, max force step %.3f N (%lld cycles cut to the bound)\n"
                "igms-haptic: state age p50 %.2f ms, p99 %.2f ms, max %.2f ms; lowest energy balance %.4f J, "
                "passivity controller acted in %lld cycles, took out %.4f J\n"
+               "igms-haptic: %lld cycles started over a period late (caught up), %lld periods skipped\n"
                "igms-haptic: round trip p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us (%lld replies); "
                "cycle jitter p50 %.0f us, p99 %.0f us, max %.0f us\n",
                cycles, wall, static_cast<double>(cycles) / wall, static_cast<long long>(s.misses.load()),
@@ -49,7 +51,8 @@ void printSummary(const ServoStats& s, double wall) {
                static_cast<long long>(s.slew_limited.load()), s.age_all.percentile(0.5) * 1e-3,
                s.age_all.percentile(0.99) * 1e-3, s.age_all.max() * 1e-3,
                s.passivity_min_energy.load(), static_cast<long long>(s.passivity_acted.load()),
-               s.passivity_dissipated.load(), s.rtt_all.percentile(0.5),
+               s.passivity_dissipated.load(), static_cast<long long>(s.late_cycles.load()),
+               static_cast<long long>(s.skipped_periods.load()), s.rtt_all.percentile(0.5),
                s.rtt_all.percentile(0.99), s.rtt_all.percentile(0.999), s.rtt_all.max(),
                static_cast<long long>(s.rtt_all.count()), s.jitter_all.percentile(0.5), s.jitter_all.percentile(0.99),
                s.jitter_all.max());
@@ -103,6 +106,14 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
                  ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
                              o.passivity_tolerance_mj * 1e-3});
+  if (o.rt_priority > 0) {
+    const std::string why = requestRealtime(o.rt_priority);
+    if (why.empty())
+      std::fprintf(stderr, "igms-haptic: servo loop on SCHED_FIFO priority %d, memory locked\n", o.rt_priority);
+    else
+      std::fprintf(stderr, "igms-haptic: warning: no real-time scheduling: %s; running on as a normal process\n",
+                   why.c_str());
+  }
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status

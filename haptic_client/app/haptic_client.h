@@ -26,6 +26,7 @@ struct ClientOptions {
   double duration = 0.0;       // s; 0: until the device's script ends (or forever)
   double connect_timeout = 10.0;  // s to wait for the server's first status
   bool quiet = false;
+  int rt_priority = 0;         // > 0: the servo loop asks for SCHED_FIFO at this priority and locks memory
 };
 
 // Returns the exit code: 0 done, 2 setup error, 3 no server.

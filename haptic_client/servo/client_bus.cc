@@ -32,6 +32,8 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     return;
   }
   const robot_state_t* m = &state_msg_;
+  if (last_state_seq_ >= 0 && m->seq > last_state_seq_ + 1) states_missed_ += m->seq - last_state_seq_ - 1;
+  if (m->seq > last_state_seq_ || m->seq < last_state_seq_ - 1000) last_state_seq_ = m->seq;  // or a reset
   ReceivedState& r = states_.back();
   RobotSample& s = r.sample;
   if (static_cast<size_t>(m->nlinks) != s.links.size() || static_cast<size_t>(m->nq) != s.q.size() ||

@@ -39,6 +39,8 @@ class ClientBus {
 
   // Messages that failed to decode (counted, never fatal).
   int64_t undecodable() const { return undecodable_; }
+  // States that never arrived: gaps in their seq (a new session starts the count afresh).
+  int64_t statesMissed() const { return states_missed_; }
 
   void onState(const lcm::ReceiveBuffer* rbuf, const std::string&);
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&);
@@ -54,6 +56,8 @@ class ClientBus {
   robot_state_t state_msg_;   // decoded into on the bus thread (its vectors keep their capacity)
   server_status_t status_msg_;
   std::atomic<int64_t> undecodable_{0};
+  std::atomic<int64_t> states_missed_{0};
+  int64_t last_state_seq_ = -1;  // the bus thread's
 };
 
 }  // namespace igms

@@ -35,6 +35,10 @@ class ClientInteraction {
                  double period, const RenderLimits& limits);
 
   bool pulling() const { return pulling_; }
+  // The server is lost: a push in progress ends here, and a new one must start
+  // at the surface. The tip sinks while the user feels nothing; that depth is
+  // never delivered to the robot when the server returns.
+  void disengagePush() { push_engaged_ = false; }
   // The last input fillInput made, as the server's step will take it (frames, not names).
   const InteractionInput& input() const { return input_; }
   double forceScale() const { return ramp_.scale(); }

@@ -4,6 +4,7 @@
 
 #include "channels.h"
 #include "core/realtime/clock.h"
+#include "core/realtime/udp_drops.h"
 #include "igms/client_status_t.hpp"
 
 namespace igms {
@@ -68,6 +69,10 @@ void ClientStatusThread::publishStatus(double now) {
   s.force_slew_limited = stats_.slew_limited;
   s.passivity_acted = stats_.passivity_acted;
   s.passivity_dissipated = stats_.passivity_dissipated;
+  s.late_cycles = stats_.late_cycles;
+  s.skipped_periods = stats_.skipped_periods;
+  s.states_missed = bus_.statesMissed();
+  s.socket_drops = ownUdpDrops();
   bus_.lcm().publish(channels::kClientStatus, &s);
 }
 

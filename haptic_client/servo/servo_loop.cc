@@ -28,18 +28,25 @@ double ServoLoop::run(const std::atomic<bool>& stop) {
   for (int64_t k = 1; !stop; ++k) {
     const double t = static_cast<double>(k - 1) * period_;
     if ((config_.duration > 0 && t >= config_.duration) || (config_.duration <= 0 && device_.finished(t))) break;
+    // The catch-up rule: a cycle that starts late runs at once and does not
+    // wait for its reply beyond its own (passed) deadline, so a few late
+    // cycles are made up back to back (compressed); more than 50 periods
+    // behind, the missed periods are skipped, not replayed. Both counted.
+    if (const int64_t skipped = deadline.skipIfBehind(50)) stats_.skipped_periods += skipped;
+    const double nominal = deadline.at();
     deadline.sleep();
     const double cycle_start = monotonicSeconds();
-    const double jitter_us = std::abs(cycle_start - (start + t)) * 1e6;
+    const double jitter_us = std::abs(cycle_start - nominal) * 1e6;
+    if (cycle_start - nominal > period_) ++stats_.late_cycles;
     stats_.jitter.push(jitter_us);
     stats_.jitter_all.add(jitter_us);
-    cycle(k, cycle_start);
+    cycle(k, nominal);
     deadline.advance();
   }
   return monotonicSeconds() - start;
 }
 
-void ServoLoop::cycle(int64_t k, double cycle_start) {
+void ServoLoop::cycle(int64_t k, double nominal_start) {
   // 1. The device, mapped into the scene.
   const double t = static_cast<double>(k - 1) * period_;
   const DeviceReading reading = device_.read(t);
@@ -60,7 +67,7 @@ void ServoLoop::cycle(int64_t k, double cycle_start) {
   sent_inputs_.put(k, sent);
   stats_.mode = msg_.mode;
   // 3. The states; 4. the force.
-  render(k, tip, tip_velocity, awaitState(k, cycle_start));
+  render(k, tip, tip_velocity, awaitState(k, nominal_start));
   ++stats_.cycles;
 }
 
@@ -94,10 +101,11 @@ double ServoLoop::oneWayDelay() const {
 }
 
 // Takes the states that arrive. While echoes come back within the deadline,
-// waits that long for this cycle's; otherwise (a far server, or a realtime
-// one whose reply this cycle's input cannot hurry) goes on with the newest.
-bool ServoLoop::awaitState(int64_t k, double cycle_start) {
-  const double deadline = cycle_start + config_.deadline_us * 1e-6;
+// waits for this cycle's until the deadline (from the cycle's nominal start,
+// not a late actual one); otherwise (a far server, or a realtime one whose
+// reply this cycle's input cannot hurry) goes on with the newest.
+bool ServoLoop::awaitState(int64_t k, double nominal_start) {
+  const double deadline = nominal_start + config_.deadline_us * 1e-6;
   const bool wait = 2.0 * oneWayDelay() < config_.deadline_us * 1e-6;
   bool echoed = false;
   for (;;) {
@@ -148,11 +156,12 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
     ++stats_.misses;
     stats_.max_consecutive = std::max<int64_t>(stats_.max_consecutive, ++consecutive_misses_);
   }
-  const Vector3 on_user =
-      estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity) : Vector3::Zero();
   // Lost: no new state for lost_ms; the force ramps down, and back up when states return.
   const bool lost = estimate_.any() && (now - estimate_.newestReceived()) * 1e3 > config_.lost_ms;
   stats_.lost = lost;
+  if (lost) interaction_.disengagePush();
+  const Vector3 on_user =
+      estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity) : Vector3::Zero();
   const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
   resync_ = false;
   device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)

@@ -51,8 +51,8 @@ class ServoLoop {
   double run(const std::atomic<bool>& stop);
 
  private:
-  void cycle(int64_t k, double cycle_start);
-  bool awaitState(int64_t k, double cycle_start);
+  void cycle(int64_t k, double nominal_start);
+  bool awaitState(int64_t k, double nominal_start);
   void take(const ReceivedState& r);
   void render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time);
   double oneWayDelay() const;

@@ -23,6 +23,10 @@ int main(int argc, char** argv) {
   app.add_option("--input-hold", o.input_hold, "s an input keeps acting without a newer one (realtime clock)")
       ->check(igms::cli::Seconds);
   app.add_flag("--quiet", o.quiet, "no status lines on stderr");
+  app.add_option("--rt-priority", o.rt_priority,
+                 "ask for SCHED_FIFO at this priority (1-99) and lock memory; a warning and a normal process "
+                 "when not allowed (0: do not ask)")
+      ->check(CLI::Range(0, 99));
   app.add_option("--key", o.commands.key,
                  "commands must carry this key (default: $IGMS_KEY; without one, the session token)")
       ->envname("IGMS_KEY");

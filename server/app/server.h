@@ -30,6 +30,7 @@ struct ServerOptions {
   bool start_paused = false;
   double input_hold = 0.05;     // s: an input keeps acting this long without a newer one
   bool quiet = false;
+  int rt_priority = 0;          // > 0: the loop asks for SCHED_FIFO at this priority and locks memory
   CommandPolicy commands;       // key, scene folders, output folder
   // Fault injection on the published states (tests of the client's fallback):
   double fault_drop = 0.0;       // fraction of states not published

@@ -6,6 +6,7 @@
 #include "channels.h"
 #include "core/model_io/model_loader.h"
 #include "core/realtime/clock.h"
+#include "core/realtime/udp_drops.h"
 #include "igms/server_status_t.hpp"
 #include "igms_build_info.h"
 
@@ -84,6 +85,9 @@ void StatusReporter::publishStatus(PublishStats& p) {
   s.components = components_;
   s.nlinks = static_cast<int32_t>(link_names_.size());
   s.link_names = link_names_;
+  s.inputs_missed = bus.inputs_missed;
+  s.socket_drops = ownUdpDrops();
+  s.resume_ramps = loop_.resume_ramps.load();
   bus_.publish(channels::kServerStatus, &s);
   if (seq_ % 10 == 1) requestSessionInfo(s.session_token);
   window_start_ = now;

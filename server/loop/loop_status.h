@@ -14,6 +14,7 @@ class LoopStatus {
  public:
   std::atomic<int64_t> steps{0}, overruns{0}, forces_clamped{0}, consumed_inputs{0}, ring_drops{0};
   std::atomic<int64_t> commands_rejected{0};
+  std::atomic<int64_t> resume_ramps{0};
 
   // "running", "lockstep", "paused", "diverged", "stopped"; message: the last error or report.
   void setState(const std::string& state) {

@@ -15,6 +15,7 @@ bool Stepper::step() {
   const bool ok = sim_.step(fresh ? &latest_.input : nullptr);
   const auto step_us = static_cast<int32_t>((monotonicSeconds() - t0) * 1e6);
   if (sim_.outcome().clamped) ++status_.forces_clamped;
+  status_.resume_ramps = sim_.resumeRamps();
   ++status_.steps;
   snapshot(step_us);
   return ok;

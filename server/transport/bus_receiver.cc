@@ -63,6 +63,7 @@ BusCounters BusReceiver::counters() {
     c.inputs_received = gate_->received();
     c.inputs_rejected = gate_->rejectedTotal();
     c.rejected_by_reason = gate_->rejected();
+    c.inputs_missed = gate_->missed();
   }
   return c;
 }

@@ -25,7 +25,7 @@ struct TimedInput {
 
 // What the status reports about the bus.
 struct BusCounters {
-  int64_t inputs_received = 0, inputs_rejected = 0, inputs_accepted = 0;
+  int64_t inputs_received = 0, inputs_rejected = 0, inputs_accepted = 0, inputs_missed = 0;
   std::array<int64_t, kRejectReasons> rejected_by_reason{};
   int64_t commands_received = 0, commands_refused = 0;  // refused: undecodable, or the queue was full
 };

@@ -76,8 +76,12 @@ bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReas
   auto it = last_seq_.begin();
   while (it != last_seq_.end() && it->first != m.client_id) ++it;
   if (it != last_seq_.end() && m.seq <= it->second) return reject(RejectReason::Stale, why);
-  if (it == last_seq_.end()) last_seq_.emplace_back(m.client_id, m.seq);
-  else it->second = m.seq;
+  if (it == last_seq_.end()) {
+    last_seq_.emplace_back(m.client_id, m.seq);
+  } else {
+    missed_ += m.seq - it->second - 1;  // inputs of this client that never came (lost, or a full socket)
+    it->second = m.seq;
+  }
   *out = converted;
   return true;
 }

@@ -32,6 +32,8 @@ class InputGate {
   void newSession(int64_t token);
 
   int64_t received() const { return received_; }
+  // Gaps in the admitted clients' seq: inputs that never arrived.
+  int64_t missed() const { return missed_; }
   const std::array<int64_t, kRejectReasons>& rejected() const { return rejected_; }
   int64_t rejectedTotal() const;
   int64_t token() const { return token_; }
@@ -44,7 +46,7 @@ class InputGate {
   }
   const Model& model_;
   int64_t token_;
-  int64_t received_ = 0;
+  int64_t received_ = 0, missed_ = 0;
   std::array<int64_t, kRejectReasons> rejected_{};
   std::vector<std::pair<int32_t, int64_t>> last_seq_;  // per client
 };

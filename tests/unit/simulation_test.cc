@@ -112,6 +112,43 @@ TEST(Simulation, PushChangesTheTrajectoryAndGenerationResumesToTheGoal) {
 // evaluations, RK4 reported its fourth stage's force (46.830 N against the
 // start state's 47.474 N on this probe). The expected force here is computed
 // independently: the tip against link 3's cylinder at the start-state pose.
+// After a gap between inputs (a stalled client or server), the coupling comes
+// back over 100 ms: the first push step carries 1 % of the force, the 100th all
+// of it. The same push with no gap before it is whole at once.
+TEST(Simulation, AnInteractionAfterAGapInInputsIsRampedBackIn) {
+  auto probe = [](int gap_steps) {
+    Simulation sim(scene("puma_wall.yaml"));
+    InteractionInput none;
+    none.seq = 1;
+    none.client = 1;
+    EXPECT_TRUE(sim.step(&none));
+    for (int k = 0; k < gap_steps; ++k) EXPECT_TRUE(sim.step(nullptr));
+    const int link3 = sim.model().frameIndex("link3");
+    InteractionInput push;
+    push.mode = InteractionMode::Push;
+    push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
+                         sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.05);
+    push.tip_radius = 0.01;
+    push.contact_frame = link3;
+    push.client = 1;
+    std::vector<double> forces;
+    for (int k = 0; k < 120; ++k) {
+      push.seq = 2 + k;
+      EXPECT_TRUE(sim.step(&push));
+      forces.push_back(sim.outcome().force_on_robot.norm());
+    }
+    return std::make_pair(forces, sim.resumeRamps());
+  };
+  const auto [ramped, ramps] = probe(30);
+  const auto [whole, none] = probe(5);
+  EXPECT_EQ(ramps, 1);
+  EXPECT_EQ(none, 0);
+  ASSERT_GT(whole[0], 1.0) << "the probe presses";
+  EXPECT_NEAR(ramped[0] / whole[0], 0.01, 0.005) << "1 % on the first step";
+  for (size_t k = 1; k < 100; ++k) EXPECT_LE(ramped[k] - ramped[k - 1], 0.02 * whole[0] + 0.1) << k;
+  EXPECT_GT(ramped[110], 0.5 * whole[110]) << "back to full";
+}
+
 TEST(Simulation, ReportedForceIsTheStartStateForceUnderEveryIntegrator) {
   for (IntegratorKind kind : {IntegratorKind::SemiImplicitEuler, IntegratorKind::Rk4, IntegratorKind::LinearlyImplicit}) {
     Scene s = scene("puma_wall.yaml");
