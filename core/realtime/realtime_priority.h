@@ -8,6 +8,7 @@
 #include <sys/mman.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -23,6 +24,16 @@ inline std::string requestRealtime(int priority) {
   if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
     return std::string("memory lock: ") + std::strerror(errno) + " (SCHED_FIFO is on; pages may still fault)";
   return "";
+}
+
+// The same, said on stderr in one line either way ("igms-server: loop on ...").
+inline void requestRealtimeAndSay(const char* program, const char* loop, int priority) {
+  const std::string why = requestRealtime(priority);
+  if (why.empty())
+    std::fprintf(stderr, "%s: %s on SCHED_FIFO priority %d, memory locked\n", program, loop, priority);
+  else
+    std::fprintf(stderr, "%s: warning: no real-time scheduling: %s; running on as a normal process\n", program,
+                 why.c_str());
 }
 
 }  // namespace igms

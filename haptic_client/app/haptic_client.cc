@@ -106,14 +106,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
                  ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
                              o.passivity_tolerance_mj * 1e-3});
-  if (o.rt_priority > 0) {
-    const std::string why = requestRealtime(o.rt_priority);
-    if (why.empty())
-      std::fprintf(stderr, "igms-haptic: servo loop on SCHED_FIFO priority %d, memory locked\n", o.rt_priority);
-    else
-      std::fprintf(stderr, "igms-haptic: warning: no real-time scheduling: %s; running on as a normal process\n",
-                   why.c_str());
-  }
+  if (o.rt_priority > 0) requestRealtimeAndSay("igms-haptic", "servo loop", o.rt_priority);
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status

@@ -187,14 +187,7 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver
   p.publishing.start(o.clock == ServerOptions::Clock::Realtime);
   p.loop.setState(control.paused ? "paused" : runningWord(o));
   p.stepper.snapshot(0);  // the initial state
-  if (o.rt_priority > 0) {
-    const std::string why = requestRealtime(o.rt_priority);
-    if (why.empty())
-      std::fprintf(stderr, "igms-server: loop on SCHED_FIFO priority %d, memory locked\n", o.rt_priority);
-    else
-      std::fprintf(stderr, "igms-server: warning: no real-time scheduling: %s; running on as a normal process\n",
-                   why.c_str());
-  }
+  if (o.rt_priority > 0) requestRealtimeAndSay("igms-server", "loop", o.rt_priority);
   const int code = runLoop(bus, receiver, p, control, o, token, stop);
   if (!control.reload && !o.save_edited.empty()) {
     try {

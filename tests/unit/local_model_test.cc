@@ -12,30 +12,11 @@
 #include "haptic_client/servo/local_model.h"
 #include "haptic_client/servo/state_estimate.h"
 #include "tests/support/malloc_counter.h"
+#include "tests/support/robot_samples.h"
 #include "tests/support/test_models.h"
 
 namespace igms {
 namespace {
-
-RobotSample sampleOf(Simulation& sim, int64_t input_seq) {
-  RobotSample s;
-  s.seq = sim.steps();
-  s.input_seq = input_seq;
-  s.input_client = 1;
-  s.mode = static_cast<int8_t>(sim.outcome().mode);
-  s.sim_time = sim.time();
-  s.links = sim.linkPoses();
-  s.q.assign(sim.q().data(), sim.q().data() + sim.q().size());
-  s.v.assign(sim.v().data(), sim.v().data() + sim.v().size());
-  s.qdd.assign(sim.qdd().data(), sim.qdd().data() + sim.qdd().size());
-  return s;
-}
-
-double worstError(const std::vector<SE3>& a, const std::vector<SE3>& b) {
-  double e = 0.0;
-  for (size_t k = 0; k < a.size(); ++k) e = std::max(e, (a[k].p - b[k].p).norm());
-  return e;
-}
 
 struct Case {
   const char* scene;
@@ -68,16 +49,16 @@ TEST(LocalModel, ReproducesTheServersStepUnderTheSameInputs) {
     }
     LocalModel local(scene, 200);
     std::vector<SE3> links(scene.model->frames.size());
-    EXPECT_FALSE(local.run(sampleOf(server, 0), SentInputs{}, 0, 40, links)) << "no interaction: not its business";
+    EXPECT_FALSE(local.run(test::sampleOf(server, 0), SentInputs{}, 0, 40, links)) << "no interaction: not its business";
     // The server at 10 ms (state echoing input 10) and at 40 ms (after all of them).
     for (int64_t s = 1; s <= 10; ++s) ASSERT_TRUE(server.step(&inputs.at(s)));
-    const RobotSample at10 = sampleOf(server, 10);
+    const RobotSample at10 = test::sampleOf(server, 10);
     EXPECT_GT(server.outcome().force_on_robot.norm(), 0.1) << c.scene << ": the input acts on the robot";
     for (int64_t s = 11; s <= 40; ++s) ASSERT_TRUE(server.step(&inputs.at(s)));
     const std::vector<SE3> truth = server.linkPoses();
     ASSERT_TRUE(local.run(at10, inputs, 10, 40, links));
     EXPECT_EQ(local.lastSteps(), 30);
-    const double e = worstError(links, truth), moved = worstError(at10.links, truth);
+    const double e = test::worstLinkError(links, truth), moved = test::worstLinkError(at10.links, truth);
     std::printf("%-22s local model 30 steps ahead: %.2e m off the server's links (the robot moved %.2e m)\n", c.scene,
                 e, moved);
     EXPECT_GT(moved, 1e-5) << c.scene;
@@ -86,7 +67,7 @@ TEST(LocalModel, ReproducesTheServersStepUnderTheSameInputs) {
     LocalModel budget(scene, 10);
     ASSERT_TRUE(budget.run(at10, inputs, 10, 40, links));
     EXPECT_EQ(budget.lastSteps(), 10);
-    EXPECT_LT(worstError(links, truth), 0.2 * moved) << c.scene;
+    EXPECT_LT(test::worstLinkError(links, truth), 0.2 * moved) << c.scene;
   }
 }
 
@@ -105,7 +86,7 @@ TEST(LocalModel, RunAndPredictDoNotAllocate) {
   }
   LocalModel local(scene, 40);
   StateEstimate estimate(*scene.model, FallbackPolicy::Predict, 0.1);
-  const RobotSample state = sampleOf(server, 5);
+  const RobotSample state = test::sampleOf(server, 5);
   std::vector<SE3> links(scene.model->frames.size());
   local.run(state, inputs, 5, 60, links);  // warm
   estimate.offer(state, 0.0);

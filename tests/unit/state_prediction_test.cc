@@ -12,49 +12,32 @@
 #include "core/simulation/simulation.h"
 #include "haptic_client/servo/client_interaction.h"
 #include "haptic_client/servo/state_estimate.h"
+#include "tests/support/robot_samples.h"
 #include "tests/support/test_models.h"
 
 namespace igms {
 namespace {
 
-RobotSample sampleOf(const Simulation& sim, int64_t seq) {
-  Data data(sim.model());
-  forwardKinematics(sim.model(), data, sim.q());
-  RobotSample s;
-  s.seq = seq;
-  s.sim_time = sim.time();
-  s.links = data.oMf;
-  s.q.assign(sim.q().data(), sim.q().data() + sim.q().size());
-  s.v.assign(sim.v().data(), sim.v().data() + sim.v().size());
-  s.qdd.assign(sim.qdd().data(), sim.qdd().data() + sim.qdd().size());
-  return s;
-}
-
-double worstError(const std::vector<SE3>& a, const std::vector<SE3>& b) {
-  double e = 0.0;
-  for (size_t k = 0; k < a.size(); ++k) e = std::max(e, (a[k].p - b[k].p).norm());
-  return e;
-}
-
 TEST(StatePrediction, PredictLandsNearTheTrueStateWhereHoldDoesNot) {
   for (const char* scene : {"puma_obstacle.yaml", "quadruped_float.yaml"}) {
     Simulation sim(loadScene(test::sourceDir() + "/scenes/" + scene));
     for (int k = 0; k < 500; ++k) ASSERT_TRUE(sim.step(nullptr));
-    const RobotSample old = sampleOf(sim, 500);
+    const RobotSample old = test::sampleOf(sim, 500);
     StateEstimate predict(sim.model(), FallbackPolicy::Predict, 0.1);
     predict.offer(old, 0.0);
     std::vector<SE3> links(sim.model().frames.size());
     bool fallback = false;
     ASSERT_TRUE(predict.estimate(old.sim_time, links, &fallback));
     EXPECT_FALSE(fallback);
-    EXPECT_EQ(worstError(links, old.links), 0.0) << scene << ": a state of age 0 is used as it is";
+    EXPECT_EQ(test::worstLinkError(links, old.links), 0.0) << scene << ": a state of age 0 is used as it is";
     int stepped = 0;
     for (int h_ms : {5, 20, 50}) {
       for (; stepped < h_ms; ++stepped) ASSERT_TRUE(sim.step(nullptr));
-      const RobotSample truth = sampleOf(sim, 500 + h_ms);
+      const RobotSample truth = test::sampleOf(sim, 500 + h_ms);
       ASSERT_TRUE(predict.estimate(truth.sim_time, links, &fallback));
       EXPECT_TRUE(fallback);
-      const double e_predict = worstError(links, truth.links), e_hold = worstError(old.links, truth.links);
+      const double e_predict = test::worstLinkError(links, truth.links);
+      const double e_hold = test::worstLinkError(old.links, truth.links);
       std::printf("%-22s %2d ms ahead: predict %.3f mm, hold %.3f mm off the true links\n", scene, h_ms,
                   e_predict * 1e3, e_hold * 1e3);
       EXPECT_GT(e_hold, 1e-4) << scene << ": the robot moves (else the test shows nothing)";
@@ -67,11 +50,11 @@ TEST(StatePrediction, NeverFurtherAheadThanItsBound) {
   Simulation sim(loadScene(test::sourceDir() + "/scenes/quadruped_float.yaml"));
   for (int k = 0; k < 100; ++k) ASSERT_TRUE(sim.step(nullptr));
   StateEstimate e(sim.model(), FallbackPolicy::Predict, 0.02);
-  e.offer(sampleOf(sim, 1), 0.0);
+  e.offer(test::sampleOf(sim, 1), 0.0);
   std::vector<SE3> at_bound(sim.model().frames.size()), beyond(sim.model().frames.size());
   e.estimate(sim.time() + 0.02, at_bound, nullptr);
   e.estimate(sim.time() + 5.0, beyond, nullptr);
-  EXPECT_EQ(worstError(at_bound, beyond), 0.0) << "a 5 s old state is predicted 20 ms ahead, no further";
+  EXPECT_EQ(test::worstLinkError(at_bound, beyond), 0.0) << "a 5 s old state is predicted 20 ms ahead, no further";
 }
 
 TEST(StatePrediction, HoldNeedsNoModelButPredictDoes) {
