@@ -91,6 +91,7 @@ void Simulation::reset() {
   last_input_seq_ = -1;
   last_input_client_ = -1;
   steps_without_input_ = 0;
+  stall_noted_ = false;
   resume_ramps_ = 0;
   record(true);
 }
@@ -106,6 +107,7 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   diverged_ = false;
   last_input_seq_ = -1;  // a re-based copy does not know the server's gaps
   steps_without_input_ = 0;
+  stall_noted_ = false;
   coupling_.scale = 1.0;
 }
 
@@ -137,9 +139,11 @@ void Simulation::computeControl(const InteractionInput* in) {
   coupling_.mode = user ? in->mode : InteractionMode::None;
   // The resume ramp (see simulation.h).
   // A gap between inputs (not before the first one): steps without any, or the client's seq jumping.
-  const bool gap = last_input_seq_ >= 0 &&
-                   (steps_without_input_ >= kResumeGapSteps ||
-                    (in && in->client == last_input_client_ && in->seq - last_input_seq_ > kResumeSeqJump));
+  const bool gap = stall_noted_ ||
+                   (last_input_seq_ >= 0 &&
+                    (steps_without_input_ >= kResumeGapSteps ||
+                     (in && in->client == last_input_client_ && in->seq - last_input_seq_ > kResumeSeqJump)));
+  stall_noted_ = false;
   if (user && gap) {
     coupling_.scale = 0.0;
     ++resume_ramps_;

@@ -11,11 +11,12 @@
 //   update the state (the scene's integrator).
 // When an interaction ends, a new C2 (quintic) trajectory starts from the
 // current q, v, qdd toward the goal. When an interaction comes back after a
-// gap between inputs (20 steps without one, or the client's seq jumping by
-// more than 100: a stalled server, a stalled client, inputs lost), the user's
-// coupling is brought back in over 100 ms instead of as one step: the push
-// the hand stored up meanwhile reaches the robot as a ramp. The rule reads the
-// inputs only, so re-simulating a log reproduces it. The executed motion is recorded as the
+// gap (the loop stopped for over 20 ms, 20 steps without an input, or the
+// client's seq jumping by more than 100: a stalled server, a stalled client,
+// inputs lost), the user's coupling is brought back in over 100 ms instead
+// of as one step: the push the hand stored up meanwhile reaches the robot as
+// a ramp. The rule reads the inputs and the states' timing only, so
+// re-simulating a log reproduces it. The executed motion is recorded as the
 // edited trajectory.
 //
 // Built once from a Scene (allocates); step() never allocates.
@@ -104,6 +105,9 @@ class Simulation {
   void setGains(double push_k_p, double pull_k, double pull_b);
   // Resume ramps so far: interactions brought back in over kResumeRamp after a gap.
   int64_t resumeRamps() const { return resume_ramps_; }
+  // The loop was stopped (over 20 ms between steps): if the next step interacts, it starts a resume ramp.
+  // The server notes it from its clock, a re-simulation from the states' utime, so both agree.
+  void noteStall() { stall_noted_ = true; }
 
   // The executed motion, sampled every 10 ms (up to 10 minutes).
   int editedCount() const { return edited_count_; }
@@ -142,6 +146,7 @@ class Simulation {
   int64_t last_input_seq_ = -1;   // the resume ramp's view of the inputs
   int32_t last_input_client_ = -1;
   int steps_without_input_ = 0;
+  bool stall_noted_ = false;
   int64_t resume_ramps_ = 0;
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;

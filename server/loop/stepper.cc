@@ -11,6 +11,10 @@ bool Stepper::step() {
     ++status_.consumed_inputs;
   }
   const bool fresh = version > 0 && (lockstep_ || monotonicSeconds() - latest_.arrived <= input_hold_);
+  // Stopped for over 20 ms since the last state (SIGSTOP, a starved machine): the same test a
+  // re-simulation makes on the states' utime and step time.
+  const int64_t start_us = wallMicros();
+  if (last_snapshot_us_ > 0 && start_us - last_snapshot_us_ > kStallUs) sim_.noteStall();
   const double t0 = monotonicSeconds();
   const bool ok = sim_.step(fresh ? &latest_.input : nullptr);
   const auto step_us = static_cast<int32_t>((monotonicSeconds() - t0) * 1e6);
@@ -22,12 +26,13 @@ bool Stepper::step() {
 }
 
 void Stepper::snapshot(int32_t step_us) {
+  last_snapshot_us_ = wallMicros();
   Snapshot* slot = ring_.beginWrite();
   if (!slot) {
     ++status_.ring_drops;
     return;
   }
-  takeSnapshot(sim_, wallMicros(), step_us, *slot);
+  takeSnapshot(sim_, last_snapshot_us_, step_us, *slot);
   ring_.endWrite();
 }
 

@@ -115,10 +115,11 @@ def body(checks, open_browser):
     checks.check(off > 0.01, "the push moved the robot off its nominal path", "%.3f m" % off)
     checks.check(bs.status(device_url)["device_targets"] > targets_before, "the page's targets reached the device")
     checks.check(page.frame()["mode"] == 0, "releasing ends the push", "mode %d" % page.frame()["mode"])
-    # The device's own part of the bound is mouse_follower_test's (0.5 N a cycle); what the client
-    # renders under this machine's load (deadline misses, held states) is issue 21's: reported here.
-    print("info the largest rendered-force step through the push and its release: %.3f N"
-          % page.frame()["client"]["max_force_step"])
+    # The device's own part is mouse_follower_test's (0.5 N a cycle); under this machine's load
+    # (deadline misses, held states) the client's per-cycle bound keeps what reaches the hand within 1 N.
+    step = page.frame()["client"]["max_force_step"]
+    checks.check(step <= 1.0 + 1e-6, "the rendered force stepped by at most 1 N a cycle through the push",
+                 "%.3f N" % step)
 
     # Shift-drag from the end-effector: the spring pulls it toward the cursor.
     ee = hello["traced_link"]
@@ -148,8 +149,9 @@ def body(checks, open_browser):
     checks.check(moved > 0.01, "the end-effector moved toward the cursor", "%.3f m of %.3f m" % (moved, length))
     ActionChains(driver).release().key_up(Keys.SHIFT).perform()
     time.sleep(0.3)
-    # The pull's engage blend is not bounded per cycle yet (issue 21): reported, not asserted.
-    print("info the largest rendered-force step after the pull: %.3f N" % page.frame()["client"]["max_force_step"])
+    step = page.frame()["client"]["max_force_step"]
+    checks.check(step <= 1.0 + 1e-6, "the rendered force stepped by at most 1 N a cycle through the pull",
+                 "%.3f N" % step)
 
     # Keys: pause, single step, reset, save.
     press(page, " ")

@@ -193,6 +193,7 @@ TEST(Client, KeepsItsRateAndAContinuousForceWhenRepliesAreLost) {
     const Session s = run("push_demo.yaml", args);
     expectRateKept(s, what);
     EXPECT_GT(s.last_status.fallbacks, 0) << what;
+    EXPECT_GT(s.last_status.states_missed, 0) << what << ": the lost states are counted";
     // How far the edited trajectory moved from the loss-free run's.
     if (!s.states.empty() && !clean.states.empty()) {
       double d = 0.0;
@@ -223,6 +224,15 @@ TEST(Client, PullKeepsItsRateAndAContinuousForceWhenRepliesAreLost) {
   }
 }
 
+// Grabbing with the spring already stretched 3 cm: the engage is bounded too.
+TEST(Client, AGrabWithTheSpringStretchedReachesTheHandGradually) {
+  const Session s = run("pull_grab_stretched.yaml");
+  expectRateKept(s, "grab with the spring stretched 3 cm");
+  EXPECT_GT(maxForce(s, haptic_input_t::MODE_PULL), 5.0) << "the spring engaged stretched";
+  std::printf("grab: largest force on the robot %.2f N, cycles the 1 N bound cut %lld\n",
+              maxForce(s, haptic_input_t::MODE_PULL), static_cast<long long>(s.last_status.force_slew_limited));
+}
+
 // The server stopped for 300 ms while the hand pushes (realtime and lockstep)
 // or pulls, 50 ms into the contact: the hand feels the force ramp down and
 // sinks, and the push it stored up does not reach the robot when the server
@@ -248,17 +258,32 @@ TEST(Client, AStallDuringContactDeliversNoStoredUpForceToTheRobot) {
     for (size_t k = 1; k < s.states.size() && gap_at < 0; ++k)
       if (s.states[k].utime - s.states[k - 1].utime > 200000) gap_at = s.states[k - 1].sim_time;
     ASSERT_GT(gap_at, 0.0) << c.what << ": the stall shows in the states";
-    // Right after the gap (150 ms of simulated time) is where a stored-up push would land.
+    // Right after the gap (150 ms of simulated time) is where a stored-up push would land; and whatever force
+    // comes back (a pull's spring is as stretched as the hand left it) comes back as a ramp, not a step. (A push
+    // that ends drops to zero in one step, as every released push does: only rises count.)
     const double undisturbed = maxForce(calm, c.mode), before = maxForce(s, c.mode, 0.0, gap_at),
                  right_after = maxForce(s, c.mode, gap_at + 1e-6, gap_at + 0.15);
+    double largest_step = 0.0, last = -1.0;
+    for (const auto& st : s.states) {
+      if (st.sim_time <= gap_at || st.sim_time > gap_at + 0.15) continue;
+      const double f = st.mode == c.mode ? std::sqrt(st.interaction_force[0] * st.interaction_force[0] +
+                                                     st.interaction_force[1] * st.interaction_force[1] +
+                                                     st.interaction_force[2] * st.interaction_force[2])
+                                         : 0.0;
+      if (last >= 0.0) largest_step = std::max(largest_step, f - last);
+      last = f;
+    }
     std::printf("%-44s largest force on the robot: %.2f N without a stall; with it %.2f N before, %.2f N in the "
-                "150 ms after\n",
-                c.what, undisturbed, before, right_after);
+                "150 ms after, rising by at most %.2f N a step\n",
+                c.what, undisturbed, before, right_after, largest_step);
     EXPECT_GT(before, 2.0) << c.what << ": the stall came in contact";
-    // Realtime (the server's default): nothing stored up arrives. Lockstep applies every input in order, so the
-    // ones the client sent in the 50 ms before it declared the server lost still arrive: a few newtons more.
-    EXPECT_LE(right_after, before + (std::string(c.clock) == "lockstep" ? 4.0 : 1.0))
-        << c.what << ": nothing stored up is delivered";
+    EXPECT_LE(largest_step, 1.0) << c.what << ": what comes back, comes back as a ramp";
+    // A push's stored-up depth is not delivered at all on the realtime clock (the server's default). Lockstep
+    // applies every input in order, so the ones the client sent in the 50 ms before it declared the server
+    // lost still arrive: a few newtons more.
+    if (c.mode == haptic_input_t::MODE_PUSH)
+      EXPECT_LE(right_after, before + (std::string(c.clock) == "lockstep" ? 4.0 : 1.0))
+          << c.what << ": nothing stored up is delivered";
   }
 }
 

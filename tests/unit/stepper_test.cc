@@ -4,6 +4,7 @@
 
 #include "core/realtime/clock.h"
 #include "server/loop/stepper.h"
+#include "server/transport/input_gate.h"
 #include "tests/support/test_models.h"
 
 namespace igms::test {
@@ -61,6 +62,28 @@ TEST(Stepper, LockstepUsesEachInputWhateverItsAgeAndCountsRingDrops) {
   for (int k = 0; k < 6; ++k) ASSERT_TRUE(rig.stepper.step());  // nobody drains: a ring of 4
   EXPECT_EQ(rig.status.ring_drops.load(), 2);
   EXPECT_NEAR(rig.sim.time(), 0.007, 1e-12);
+}
+
+// Loss is visible: inputs that never arrived show as gaps in each client's seq
+// (counted per client, never across clients); stale ones are rejected.
+TEST(InputGate, GapsInEachClientsSeqAreCountedAsMissed) {
+  Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  InputGate gate(sim.model(), 5);
+  auto input = [](int32_t client, int64_t seq) {
+    haptic_input_t m{};
+    m.session_token = 5;
+    m.client_id = client;
+    m.seq = seq;
+    m.tip_radius = 0.01;
+    return m;
+  };
+  InteractionInput out;
+  RejectReason why;
+  for (int64_t seq : {1, 2, 3, 7, 8, 20}) EXPECT_TRUE(gate.admit(input(1, seq), &out, &why)) << seq;
+  for (int64_t seq : {100, 101, 105}) EXPECT_TRUE(gate.admit(input(2, seq), &out, &why)) << seq;
+  EXPECT_FALSE(gate.admit(input(1, 19), &out, &why));
+  EXPECT_EQ(why, RejectReason::Stale);
+  EXPECT_EQ(gate.missed(), 3 + 11 + 3) << "4-6 and 9-19 of client 1, 102-104 of client 2";
 }
 
 }  // namespace

@@ -52,7 +52,11 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   bool identical = true;
   // States in step order; the first state is the initial one (seq 0).
   InteractionInput input;
+  int64_t previous_utime = 0;
   for (const auto& st : session.states) {
+    // The server's stall test (server/loop/stepper.cc): from the last state to this step's start.
+    const bool stalled = previous_utime > 0 && st.utime - st.step_us - previous_utime > 20000;
+    previous_utime = st.utime;
     if (st.seq == 0) continue;  // the initial state, before any step
     if (st.seq != sim->steps() + 1) {
       out.error = "state seq " + std::to_string(st.seq) + " follows " + std::to_string(sim->steps()) +
@@ -70,6 +74,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
       }
       in = &input;
     }
+    if (stalled) sim->noteStall();
     sim->step(in);
     if (st.nq != model.nq || st.nv != model.nv) {
       out.error = "the recorded states do not match the scene's model";
