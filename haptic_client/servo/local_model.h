@@ -18,15 +18,22 @@
 
 namespace igms {
 
-// The inputs a client sent, by seq, as the server's step takes them.
+// The inputs a client sent, by seq, as the server's step takes them, and when
+// each was sent (monotonic s: the round trip of the state that echoes it).
 class SentInputs {
  public:
   static constexpr int64_t kCapacity = 4096;
-  void put(int64_t seq, const InteractionInput& in) { ring_[static_cast<size_t>(seq % kCapacity)] = in; }
-  const InteractionInput& at(int64_t seq) const { return ring_[static_cast<size_t>(seq % kCapacity)]; }
+  void put(int64_t seq, const InteractionInput& in, double sent_at = 0.0) {
+    ring_[slot(seq)] = in;
+    sent_at_[slot(seq)] = sent_at;
+  }
+  const InteractionInput& at(int64_t seq) const { return ring_[slot(seq)]; }
+  double sentAt(int64_t seq) const { return sent_at_[slot(seq)]; }
 
  private:
+  static size_t slot(int64_t seq) { return static_cast<size_t>(seq % kCapacity); }
   std::vector<InteractionInput> ring_ = std::vector<InteractionInput>(kCapacity);
+  std::vector<double> sent_at_ = std::vector<double>(kCapacity, 0.0);
 };
 
 class LocalModel {

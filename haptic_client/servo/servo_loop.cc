@@ -14,7 +14,7 @@ ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus
     : config_(config), period_(1.0 / config.rate_hz), sim_dt_(scene.scene.dt),
       render_limits_{device.limits().max_force, device.limits().max_force_step, config.passivity,
                      config.passivity_tolerance},
-      map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device), limits_(device.limits()),
+      map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device),
       bus_(bus), estimate_(estimate), links_(links), stats_(stats), interaction_(scene) {
   msg_.client_id = config.client_id;
   msg_.tip_radius = scene.scene.push.tip_radius;
@@ -59,12 +59,12 @@ void ServoLoop::cycle(int64_t k, double nominal_start) {
   msg_.seq = k;
   msg_.session_token = bus_.sessionToken();
   msg_.last_state_seq = estimate_.any() ? estimate_.newest().seq : -1;
-  sent_[k % kSentRing] = monotonicSeconds();
+  const double sent_at = monotonicSeconds();
   bus_.publishInput(msg_);
   InteractionInput sent = interaction_.input();
   sent.seq = k;
   sent.client = config_.client_id;
-  sent_inputs_.put(k, sent);
+  sent_inputs_.put(k, sent, sent_at);
   stats_.mode = msg_.mode;
   // 3. The states; 4. the force.
   render(k, tip, tip_velocity, awaitState(k, nominal_start));
@@ -81,8 +81,9 @@ void ServoLoop::take(const ReceivedState& r) {
   // Back after a gap in arrivals: the force moves to its new value over a few cycles.
   if (r.received - previous > 3.0 * period_) resync_ = true;
   const int64_t echoed = r.sample.input_seq;
-  if (r.sample.input_client != config_.client_id || echoed < 1 || echoed <= msg_.seq - kSentRing) return;
-  const double rtt = r.received - sent_[echoed % kSentRing];
+  if (r.sample.input_client != config_.client_id || echoed < 1 || echoed <= msg_.seq - SentInputs::kCapacity)
+    return;
+  const double rtt = r.received - sent_inputs_.sentAt(echoed);
   if (rtt < 0.0) return;
   stats_.rtt.push(rtt * 1e6);
   stats_.rtt_all.add(rtt * 1e6);

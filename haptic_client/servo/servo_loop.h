@@ -64,7 +64,6 @@ class ServoLoop {
   const RenderLimits render_limits_;
   const WorkspaceMap map_;
   HapticDevice& device_;
-  const DeviceLimits limits_;
   ClientBus& bus_;
   StateEstimate& estimate_;
   std::vector<SE3>& links_;
@@ -76,10 +75,7 @@ class ServoLoop {
   int64_t consecutive_misses_ = 0;
   double estimate_time_ = 0.0;  // simulated time the estimate is for (the newest state's plus its age)
   bool resync_ = false;         // a state arrived after a gap in arrivals
-  // Round trips from the echoes: when each input was sent (by seq), and the
-  // smallest round trip in this and the last half second.
-  static constexpr int64_t kSentRing = 4096;
-  double sent_[kSentRing] = {};
+  // The smallest round trip (from the echoes and sent_inputs_' send times) in this and the last half second.
   double rtt_min_now_ = 1e9, rtt_min_before_ = 1e9, rtt_window_start_ = 0.0;
 };
 

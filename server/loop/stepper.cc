@@ -14,7 +14,7 @@ bool Stepper::step() {
   // Stopped for over 20 ms since the last state (SIGSTOP, a starved machine): the same test a
   // re-simulation makes on the states' utime and step time.
   const int64_t start_us = wallMicros();
-  if (last_snapshot_us_ > 0 && start_us - last_snapshot_us_ > kStallUs) sim_.noteStall();
+  if (last_snapshot_us_ > 0 && start_us - last_snapshot_us_ > Simulation::kStallGapUs) sim_.noteStall();
   const double t0 = monotonicSeconds();
   const bool ok = sim_.step(fresh ? &latest_.input : nullptr);
   const auto step_us = static_cast<int32_t>((monotonicSeconds() - t0) * 1e6);

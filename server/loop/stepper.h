@@ -34,7 +34,6 @@ class Stepper {
   const double input_hold_;
   uint64_t consumed_version_ = 0;
   int64_t last_snapshot_us_ = 0;  // wall time of the last state
-  static constexpr int64_t kStallUs = 20000;
   TimedInput latest_;
 };
 

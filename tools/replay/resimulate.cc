@@ -55,7 +55,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   int64_t previous_utime = 0;
   for (const auto& st : session.states) {
     // The server's stall test (server/loop/stepper.cc): from the last state to this step's start.
-    const bool stalled = previous_utime > 0 && st.utime - st.step_us - previous_utime > 20000;
+    const bool stalled = previous_utime > 0 && st.utime - st.step_us - previous_utime > Simulation::kStallGapUs;
     previous_utime = st.utime;
     if (st.seq == 0) continue;  // the initial state, before any step
     if (st.seq != sim->steps() + 1) {
