@@ -143,11 +143,13 @@ void Simulation::computeControl(const InteractionInput* in) {
                    (last_input_seq_ >= 0 &&
                     (steps_without_input_ >= kResumeGapSteps ||
                      (in && in->client == last_input_client_ && in->seq - last_input_seq_ > kResumeSeqJump)));
-  stall_noted_ = false;
   if (user && gap) {
     coupling_.scale = 0.0;
     ++resume_ramps_;
   }
+  // A stall waits for the next step that has an input: the first steps after one often have none fresh
+  // (the last arrived before the stop), and the queued inputs that follow run on in seq.
+  if (in) stall_noted_ = false;
   if (coupling_.scale < 1.0) coupling_.scale = std::min(1.0, coupling_.scale + scene_.dt / kResumeRamp);
   if (in) {
     last_input_seq_ = in->seq;

@@ -105,8 +105,8 @@ class Simulation {
   void setGains(double push_k_p, double pull_k, double pull_b);
   // Resume ramps so far: interactions brought back in over kResumeRamp after a gap.
   int64_t resumeRamps() const { return resume_ramps_; }
-  // The loop was stopped (over kStallGapUs between steps): if the next step interacts, it starts a resume
-  // ramp. The server notes it from its clock, a re-simulation from the states' utime, with this one threshold.
+  // The loop was stopped (over kStallGapUs between steps): if the next step that has an input interacts,
+  // however many steps later, it starts a resume ramp. The server notes it from its clock, a re-simulation from the states' utime, with this one threshold.
   void noteStall() { stall_noted_ = true; }
   static constexpr int64_t kStallGapUs = 20000;
 

@@ -149,6 +149,46 @@ TEST(Simulation, AnInteractionAfterAGapInInputsIsRampedBackIn) {
   EXPECT_GT(ramped[110], 0.5 * whole[110]) << "back to full";
 }
 
+// A stopped server (SIGSTOP, a starved machine) notes the stall; its first step after it often has no
+// fresh input (the last one arrived before the stop), and the queued inputs then run on with consecutive
+// seq. The ramp must still come: CI saw a held pull return as one 5.5 N step when the first step after
+// the stall cleared the note.
+TEST(Simulation, AStallIsRampedOutEvenWhenTheFirstStepAfterItHasNoInput) {
+  auto probe = [](bool stalled, int steps_without) {
+    Simulation sim(scene("puma_wall.yaml"));
+    run(sim, 0.2);
+    const int link3 = sim.model().frameIndex("link3");
+    InteractionInput push;
+    push.mode = InteractionMode::Push;
+    push.tip_radius = 0.01;
+    push.contact_frame = link3;
+    push.client = 1;
+    auto pressAt = [&] {
+      push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
+                           sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.05);
+    };
+    int seq = 1;
+    pressAt();
+    for (int k = 0; k < 10; ++k) {  // in contact before the stall, steady
+      push.seq = seq++;
+      EXPECT_TRUE(sim.step(&push));
+    }
+    if (stalled) sim.noteStall();
+    for (int k = 0; k < steps_without; ++k) EXPECT_TRUE(sim.step(nullptr));
+    push.seq = seq++;  // the next queued input: no seq jump
+    EXPECT_TRUE(sim.step(&push));
+    return std::make_pair(sim.outcome().force_on_robot.norm(), sim.resumeRamps());
+  };
+  for (int without : {0, 1, 3}) {
+    const auto [whole, no_ramp] = probe(false, without);
+    const auto [ramped, ramps] = probe(true, without);
+    ASSERT_GT(whole, 1.0) << "the probe presses";
+    EXPECT_EQ(no_ramp, 0) << without;
+    EXPECT_EQ(ramps, 1) << without << " steps without input after the stall";
+    EXPECT_LE(ramped, 0.02 * whole) << without;
+  }
+}
+
 TEST(Simulation, ReportedForceIsTheStartStateForceUnderEveryIntegrator) {
   for (IntegratorKind kind : {IntegratorKind::SemiImplicitEuler, IntegratorKind::Rk4, IntegratorKind::LinearlyImplicit}) {
     Scene s = scene("puma_wall.yaml");
