@@ -1,7 +1,10 @@
 // igms-step-bench: time of one full server step (trajectory point, computed
 // torque, forward dynamics, integration; or the coupling), median and p99 over
 // 20000 steps, per scene and interaction; and the FCL collision check that
-// runs beside the step on the publishing thread.
+// runs beside the step on the publishing thread. Then one tip-link query on
+// each Panda collision mesh (the push's contact: distance, normal, point), at
+// random tips within 12 mm of the surface, against FCL's exact point-to-mesh
+// distance on the same triangles in the same run.
 //   igms-step-bench [--quick]
 #include <algorithm>
 #include <chrono>
@@ -9,7 +12,13 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+#include <random>
+
+#include <fcl/fcl.h>
+
 #include "core/cli/command_line.h"
+#include "core/geometry/tip_contact.h"
 #include "server/collision/collision_world.h"
 #include "core/geometry/deepest_contact.h"
 #include "core/simulation/simulation.h"
@@ -43,6 +52,77 @@ std::vector<double> timeSteps(Simulation& sim, const InteractionInput* in, int n
     if (sim.diverged()) break;
   }
   return us;
+}
+
+volatile double g_sink = 0;  // keeps the timed calls from being optimised away
+
+// Per query, each timed alone (the clock's own ~20 ns included), interleaved with the peer.
+void benchTipQueries(int n) {
+  const std::string dir = std::string(IGMS_SOURCE_DIR) + "/scenes/";
+  Scene scene;
+  try {
+    scene = loadScene(dir + "panda_obstacle.yaml");
+  } catch (const std::exception& e) {
+    std::printf("tip-link queries on the Panda's meshes skipped: %s\n", e.what());
+    return;
+  }
+  const Simulation sim(scene);
+  const Model& model = sim.model();
+  std::mt19937 rng(11);
+  std::vector<double> ours, peer;
+  ours.reserve(static_cast<size_t>(n));
+  peer.reserve(static_cast<size_t>(n));
+  std::printf("tip-link query (tip 1 cm) on each Panda collision mesh, %d random tips within 12 mm of it:\n", n);
+  std::vector<double> all_ours, all_peer;
+  for (const Frame& frame : model.frames) {
+    for (const CollisionShape& shape : frame.collisions) {
+      if (shape.kind != CollisionShape::Kind::Mesh || !shape.field || !shape.triangles) continue;
+      const TriangleMesh& mesh = *shape.triangles;
+      auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+      std::vector<fcl::Vector3d> vs(mesh.vertices.begin(), mesh.vertices.end());
+      std::vector<fcl::Triangle> ts;
+      for (const auto& t : mesh.triangles) ts.emplace_back(t[0], t[1], t[2]);
+      bvh->beginModel();
+      bvh->addSubModel(vs, ts);
+      bvh->endModel();
+      const fcl::CollisionObjectd mesh_object(bvh, fcl::Transform3d::Identity());
+      auto point_shape = std::make_shared<fcl::Sphered>(0.0);
+      std::uniform_int_distribution<size_t> pick(0, mesh.triangles.size() - 1);
+      std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-0.012, 0.012);
+      ours.clear();
+      peer.clear();
+      while (static_cast<int>(ours.size()) < n) {
+        const auto& t = mesh.triangles[pick(rng)];
+        const Vector3 &a = mesh.vertices[static_cast<size_t>(t[0])], &b = mesh.vertices[static_cast<size_t>(t[1])],
+                      &c = mesh.vertices[static_cast<size_t>(t[2])];
+        const Vector3 normal = (b - a).cross(c - a);
+        if (normal.norm() < 1e-12) continue;
+        double u = unit(rng), v = unit(rng);
+        if (u + v > 1) { u = 1 - u; v = 1 - v; }
+        const Vector3 tip = a + u * (b - a) + v * (c - a) + offset(rng) * normal.normalized();
+        auto t0 = Clock::now();
+        g_sink = g_sink + tipContact(shape, SE3(), tip, 0.01).depth;
+        ours.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        const fcl::CollisionObjectd point(point_shape, fcl::Transform3d(Eigen::Translation3d(tip)));
+        fcl::DistanceRequestd request(true);
+        fcl::DistanceResultd result;
+        t0 = Clock::now();
+        fcl::distance(&point, &mesh_object, request, result);
+        peer.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        g_sink = g_sink + result.min_distance;
+      }
+      all_ours.insert(all_ours.end(), ours.begin(), ours.end());
+      all_peer.insert(all_peer.end(), peer.begin(), peer.end());
+      const Stats o = stats(ours), p = stats(peer);
+      std::printf("  %-14s %5zu triangles: igms median %6.3f us p99 %6.3f us | FCL (exact, BVH) median %6.3f us "
+                  "p99 %6.3f us | ratio %.2f\n",
+                  frame.name.c_str(), mesh.triangles.size(), o.median, o.p99, p.median, p.p99, o.median / p.median);
+    }
+  }
+  if (all_ours.empty()) return;
+  const Stats o = stats(all_ours), p = stats(all_peer);
+  std::printf("  %-14s %5s           igms median %6.3f us p99 %6.3f us | FCL (exact, BVH) median %6.3f us "
+              "p99 %6.3f us | ratio %.2f\n", "all meshes", "", o.median, o.p99, p.median, p.p99, o.median / p.median);
 }
 
 }  // namespace
@@ -150,5 +230,6 @@ int main(int argc, char** argv) {
       report((std::string(r.label) + ", pull").c_str(), us);
     }
   }
+  benchTipQueries(quick ? 2000 : 20000);
   return 0;
 }

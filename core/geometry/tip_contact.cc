@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/model/closest_point_on_triangle.h"
+
 namespace igms {
 namespace {
 
 // The signed distance at p and its gradient (the outward normal) from the
 // trilinear interpolation of the field's grid. False when p is outside the
-// grid or farther than `reach` from the surface: nothing to touch.
-bool sampleField(const DistanceField& f, const Vector3& p, double reach, double* distance, Vector3* normal) {
+// grid or farther than `reach` from the surface: nothing to touch. The
+// gradient is zero on a flat spot (deep inside, where the field is clamped).
+bool sampleField(const DistanceField& f, const Vector3& p, double reach, double* distance, Vector3* gradient) {
   const Vector3 g = (p - f.origin) / f.spacing;
   const int i = static_cast<int>(std::floor(g.x())), j = static_cast<int>(std::floor(g.y())),
             k = static_cast<int>(std::floor(g.z()));
@@ -27,10 +30,60 @@ bool sampleField(const DistanceField& f, const Vector3& p, double reach, double*
   const double dx = (1 - w) * ((1 - v) * (c100 - c000) + v * (c110 - c010)) + w * ((1 - v) * (c101 - c001) + v * (c111 - c011));
   const double dy = (1 - w) * (c10 - c00) + w * (c11 - c01);
   const double dz = c1 - c0;
-  const Vector3 grad = Vector3(dx, dy, dz) / f.spacing;
-  const double n = grad.norm();
-  if (!(n > 1e-9)) return false;  // a flat spot deep inside: no direction to push
-  *normal = grad / n;
+  *gradient = Vector3(dx, dy, dz) / f.spacing;
+  return true;
+}
+
+// Near the surface, the exact distance: to the nearest of the triangles the
+// grid stored for the 27 grid points around p (p's nearest triangle is one of
+// them but where features are thinner than the grid; mesh_contact_test
+// measures it against FCL). The normal is the exact gradient of the distance,
+// p's offset from its nearest point (the face's normal on the surface itself);
+// the side is the face's where that point lies inside a face, else the
+// interpolated field's. False when none of those points lies within the band.
+constexpr int kSide = 3, kNeighbourhood = kSide * kSide * kSide;  // grid points around the nearest one
+
+bool nearestOnMesh(const DistanceField& f, const TriangleMesh& mesh, const Vector3& p, double field_distance,
+                   double* distance, Vector3* normal, Vector3* surface) {
+  const Vector3 g = (p - f.origin) / f.spacing;
+  const int i = static_cast<int>(std::lround(g.x())), j = static_cast<int>(std::lround(g.y())),
+            k = static_cast<int>(std::lround(g.z()));
+  int32_t seen[kNeighbourhood];
+  int n_seen = 0;
+  double best = 1e300;
+  TrianglePoint at;
+  int32_t best_triangle = -1;
+  for (int corner = 0; corner < kNeighbourhood; ++corner) {
+    const int ci = std::clamp(i - 1 + corner % kSide, 0, f.nx - 1);
+    const int cj = std::clamp(j - 1 + (corner / kSide) % kSide, 0, f.ny - 1);
+    const int ck = std::clamp(k - 1 + corner / (kSide * kSide), 0, f.nz - 1);
+    const int32_t t = f.nearest[f.index(ci, cj, ck)];
+    if (t < 0 || std::find(seen, seen + n_seen, t) != seen + n_seen) continue;
+    seen[n_seen++] = t;
+    const auto& tri = mesh.triangles[static_cast<size_t>(t)];
+    const TrianglePoint q = closestPointOnTriangle(p, mesh.vertices[static_cast<size_t>(tri[0])],
+                                                   mesh.vertices[static_cast<size_t>(tri[1])],
+                                                   mesh.vertices[static_cast<size_t>(tri[2])]);
+    const double d = (p - q.point).squaredNorm();
+    if (d < best) {
+      best = d;
+      at = q;
+      best_triangle = t;
+    }
+  }
+  if (best_triangle < 0) return false;
+  const auto& tri = mesh.triangles[static_cast<size_t>(best_triangle)];
+  const Vector3& a = mesh.vertices[static_cast<size_t>(tri[0])];
+  const Vector3 face = (mesh.vertices[static_cast<size_t>(tri[1])] - a).cross(mesh.vertices[static_cast<size_t>(tri[2])] - a);
+  const Vector3 offset = p - at.point;
+  const double unsigned_distance = std::sqrt(best);
+  const bool inside = at.in_face ? offset.dot(face) < 0.0 : field_distance < 0.0;
+  *distance = inside ? -unsigned_distance : unsigned_distance;
+  const double face_norm = face.norm();
+  if (unsigned_distance > 1e-9) *normal = (inside ? -offset : offset) / unsigned_distance;
+  else if (face_norm > 0.0) *normal = face / face_norm;
+  else return false;
+  *surface = at.point;
   return true;
 }
 
@@ -105,12 +158,24 @@ TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector
     }
     case CollisionShape::Kind::Mesh: {
       if (!shape.field) return out;  // no field: a mesh from a description read as text
+      const DistanceField& f = *shape.field;
       double distance = 0.0;
-      if (!sampleField(*shape.field, c, tip_radius, &distance, &normal)) return out;
+      Vector3 gradient;
+      // The interpolation may overstate the distance by up to a spacing: reach that much further.
+      if (!sampleField(f, c, tip_radius + f.spacing, &distance, &gradient)) return out;
+      Vector3 on_surface;
+      if (!(shape.triangles && !f.nearest.empty() &&
+            nearestOnMesh(f, *shape.triangles, c, distance, &distance, &normal, &on_surface))) {
+        const double g = gradient.norm();
+        if (!(g > 1e-9)) return out;  // a flat spot deep inside: no direction to push
+        normal = gradient / g;
+        on_surface = c - normal * distance;
+      }
+      if (distance >= tip_radius) return out;
       out.depth = tip_radius - distance;
       out.touching = out.depth > 0.0;
       out.normal = pose.R * normal;
-      out.point = pose.act(Vector3(c - normal * distance));
+      out.point = pose.act(on_surface);
       return out;
     }
   }

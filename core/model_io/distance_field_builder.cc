@@ -5,39 +5,22 @@
 #include <deque>
 #include <limits>
 
+#include "core/model/closest_point_on_triangle.h"
+
 namespace igms {
 namespace {
 
-// The point of triangle abc nearest p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vector3 closestOnTriangle(const Vector3& p, const Vector3& a, const Vector3& b, const Vector3& c) {
-  const Vector3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vector3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Vector3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Nearest distance so far and the summed sidedness of the triangles that share it.
+// Nearest distance so far, the first triangle at it, and the summed sidedness of the triangles that share it.
 struct Nearest {
   double distance = std::numeric_limits<double>::infinity();
   double side = 0.0;
-  void offer(double d, double s) {
+  int triangle = -1;
+  void offer(double d, double s, int t) {
     constexpr double kTie = 1e-9;
     if (d < distance - kTie) {
       distance = d;
       side = s;
+      triangle = t;
     } else if (d <= distance + kTie) {
       side += s;
     }
@@ -61,8 +44,8 @@ double exactSignedDistance(const TriangleMesh& mesh, const Vector3& p) {
                   &c = mesh.vertices[static_cast<size_t>(t[2])];
     const Vector3 n = (b - a).cross(c - a);
     if (n.squaredNorm() == 0) continue;
-    const Vector3 q = closestOnTriangle(p, a, b, c);
-    best.offer((p - q).norm(), sidedness(p, q, n.normalized()));
+    const Vector3 q = closestPointOnTriangle(p, a, b, c).point;
+    best.offer((p - q).norm(), sidedness(p, q, n.normalized()), 0);
   }
   return best.side >= 0 ? best.distance : -best.distance;
 }
@@ -87,7 +70,8 @@ DistanceField buildDistanceField(const TriangleMesh& mesh, double spacing, doubl
     return static_cast<size_t>(i) + static_cast<size_t>(f.nx) * (static_cast<size_t>(j) + static_cast<size_t>(f.ny) * static_cast<size_t>(k));
   };
   // Narrow band: each triangle updates the grid points within `band` of its bounding box.
-  for (const auto& t : mesh.triangles) {
+  for (size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+    const auto& t = mesh.triangles[ti];
     const Vector3 &a = mesh.vertices[static_cast<size_t>(t[0])], &b = mesh.vertices[static_cast<size_t>(t[1])],
                   &c = mesh.vertices[static_cast<size_t>(t[2])];
     Vector3 normal = (b - a).cross(c - a);
@@ -100,9 +84,9 @@ DistanceField buildDistanceField(const TriangleMesh& mesh, double spacing, doubl
       for (int j = i0.y(); j <= i1.y(); ++j)
         for (int i = i0.x(); i <= i1.x(); ++i) {
           const Vector3 p = f.origin + spacing * Vector3(i, j, k);
-          const Vector3 q = closestOnTriangle(p, a, b, c);
+          const Vector3 q = closestPointOnTriangle(p, a, b, c).point;
           const double d = (p - q).norm();
-          if (d < band) nearest[index(i, j, k)].offer(d, sidedness(p, q, normal));
+          if (d < band) nearest[index(i, j, k)].offer(d, sidedness(p, q, normal), static_cast<int>(ti));
         }
   }
   // Beyond the band: outside if reachable from the boundary without crossing a point inside the band
@@ -132,8 +116,10 @@ DistanceField buildDistanceField(const TriangleMesh& mesh, double spacing, doubl
     if (k < f.nz - 1) seed(i, j, k + 1);
   }
   f.values.resize(n);
+  f.nearest.resize(n);
   for (size_t at = 0; at < n; ++at) {
     const Nearest& c = nearest[at];
+    f.nearest[at] = c.triangle;
     if (std::isfinite(c.distance)) f.values[at] = static_cast<float>(c.side >= 0 ? c.distance : -c.distance);
     else f.values[at] = static_cast<float>(outside[at] ? band : -band);
   }

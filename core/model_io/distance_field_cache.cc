@@ -12,7 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kMagic[8] = {'I', 'G', 'M', 'S', 'S', 'D', 'F', '1'};
+constexpr char kMagic[8] = {'I', 'G', 'M', 'S', 'S', 'D', 'F', '2'};
 
 struct Header {
   char magic[8];
@@ -73,7 +73,9 @@ std::optional<DistanceField> readCachedField(uint64_t key) {
   f.spacing = h.spacing;
   f.band = h.band;
   f.values.resize(static_cast<size_t>(h.nx) * static_cast<size_t>(h.ny) * static_cast<size_t>(h.nz));
-  if (!in.read(reinterpret_cast<char*>(f.values.data()), static_cast<std::streamsize>(f.values.size() * sizeof(float))))
+  f.nearest.resize(f.values.size());
+  if (!in.read(reinterpret_cast<char*>(f.values.data()), static_cast<std::streamsize>(f.values.size() * sizeof(float))) ||
+      !in.read(reinterpret_cast<char*>(f.nearest.data()), static_cast<std::streamsize>(f.nearest.size() * sizeof(int32_t))))
     return std::nullopt;
   return f;
 }
@@ -99,6 +101,7 @@ void writeCachedField(uint64_t key, const DistanceField& f) {
     h.band = f.band;
     out.write(reinterpret_cast<const char*>(&h), sizeof h);
     out.write(reinterpret_cast<const char*>(f.values.data()), static_cast<std::streamsize>(f.values.size() * sizeof(float)));
+    out.write(reinterpret_cast<const char*>(f.nearest.data()), static_cast<std::streamsize>(f.nearest.size() * sizeof(int32_t)));
     if (!out) {
       fs::remove(tmp, ec);
       return;

@@ -4,7 +4,8 @@
 // example-robot-data, at random points within 1.2 cm of the surface on both
 // sides: distance error ≤ 1 mm; the side (inside/outside) right wherever the
 // nearest surface point is unambiguous; the normal within 5° of the face's
-// where the surface is flat around the nearest point. Also the whole URDF path:
+// where the surface is smooth around the nearest point (inside a face, off
+// the medial surface of concave corners). Also the whole URDF path:
 // a scene's model loads with touchable meshes and deepestContact finds them.
 #include <gtest/gtest.h>
 
@@ -19,6 +20,7 @@
 
 #include "core/geometry/deepest_contact.h"
 #include "core/kinematics/forward_kinematics.h"
+#include "core/model/closest_point_on_triangle.h"
 #include "core/model_io/distance_field_builder.h"
 #include "core/model_io/mesh_fields.h"
 #include "core/model_io/mesh_reader.h"
@@ -55,6 +57,10 @@ std::vector<MeshCase> meshes() {
 struct Stats {
   std::vector<double> errors, angles;
   int wrong_side = 0, sided = 0;
+  // The field's side against the generalised winding number's (inside any of the mesh's closed shells: the
+  // UR5's meshes are 2 to 6 overlapping shells, where "the side of the nearest face" and "inside the solid"
+  // can differ).
+  int against_winding = 0;
 };
 
 // Edges used by one triangle only: holes in the surface (vertices welded by position: STL
@@ -72,6 +78,18 @@ int openEdges(const TriangleMesh& mesh) {
   int open = 0;
   for (const auto& [edge, n] : uses) open += n == 1;
   return open;
+}
+
+// Σ solid angles / 4π (Van Oosterom and Strackee): how many closed, outward-wound shells hold p.
+double windingNumber(const TriangleMesh& mesh, const Vector3& p) {
+  double total = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vector3 a = mesh.vertices[static_cast<size_t>(t[0])] - p, b = mesh.vertices[static_cast<size_t>(t[1])] - p,
+                  c = mesh.vertices[static_cast<size_t>(t[2])] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    total += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+  }
+  return total / (4 * M_PI);
 }
 
 double percentile(std::vector<double> v, double q) {
@@ -96,6 +114,7 @@ TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
     CollisionShape shape;
     shape.kind = CollisionShape::Kind::Mesh;
     shape.field = std::make_shared<const DistanceField>(field);
+    shape.triangles = std::make_shared<const TriangleMesh>(mesh);
     // FCL over the same triangles.
     auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
     std::vector<fcl::Vector3d> vs(mesh.vertices.begin(), mesh.vertices.end());
@@ -138,20 +157,34 @@ TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
       const bool own_face = std::abs(exact - std::abs(off)) < 1e-6 && std::abs(off) > 0.002;
       if (own_face) {
         ++s.sided;
+        if ((field_distance < 0) != (windingNumber(mesh, p) > 0.5)) ++s.against_winding;
         if ((field_distance > 0) != (off > 0)) ++s.wrong_side;
       }
-      // Smooth there: FCL's nearest point lies inside its triangle, a grid spacing from every edge;
-      // the exact normal is then that triangle's.
-      // FCL may swap the objects internally: the mesh's side is the one whose index is a triangle
-      // and whose nearest point is not p itself.
-      const int tri = result.b2 >= 0 && result.b2 < static_cast<int>(mesh.triangles.size()) ? result.b2 : result.b1;
-      if (tri < 0 || tri >= static_cast<int>(mesh.triangles.size())) continue;
-      const auto& nt = mesh.triangles[static_cast<size_t>(tri)];
+      // Smooth there: the nearest point lies inside its triangle, off every edge, and no other part of
+      // the mesh is about as near in another direction (on the medial surface of a concave corner the
+      // distance has a ridge, and either face's normal is its gradient). The exact normal is then that
+      // triangle's. Found by brute force over every triangle; its distance is FCL's.
+      double nearest_d = 1e9;
+      size_t nearest_t = 0;
+      std::vector<std::pair<double, Vector3>> near;  // (distance, direction from the mesh to p) per triangle
+      near.reserve(mesh.triangles.size());
+      for (size_t ti = 0; ti < mesh.triangles.size(); ++ti) {
+        const auto& t2 = mesh.triangles[ti];
+        const Vector3 q = closestPointOnTriangle(p, mesh.vertices[static_cast<size_t>(t2[0])],
+                                                 mesh.vertices[static_cast<size_t>(t2[1])],
+                                                 mesh.vertices[static_cast<size_t>(t2[2])]).point;
+        const double d = (q - p).norm();
+        near.emplace_back(d, (p - q) / d);
+        if (d < nearest_d) {
+          nearest_d = d;
+          nearest_t = ti;
+        }
+      }
+      EXPECT_NEAR(nearest_d, exact, 1e-6) << c.name << ": brute force and FCL agree";
+      const auto& nt = mesh.triangles[nearest_t];
       const Vector3 &na = mesh.vertices[static_cast<size_t>(nt[0])], &nb = mesh.vertices[static_cast<size_t>(nt[1])],
                     &nc = mesh.vertices[static_cast<size_t>(nt[2])];
-      const Vector3 nearest = (result.nearest_points[1] - p).norm() > (result.nearest_points[0] - p).norm()
-                                  ? Vector3(result.nearest_points[1])
-                                  : Vector3(result.nearest_points[0]);
+      const TrianglePoint at = closestPointOnTriangle(p, na, nb, nc);
       auto edgeDistance = [](const Vector3& x, const Vector3& p0, const Vector3& p1, const Vector3& p2) {
         const Vector3 e[3][2] = {{p0, p1}, {p1, p2}, {p2, p0}};
         double m = 1e9;
@@ -163,19 +196,24 @@ TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
         return m;
       };
       const Vector3 face = (nb - na).cross(nc - na).normalized();
-      // (the interpolation reaches sqrt(3) spacings, and a neighbouring face may turn there)
-      if (own_face && exact > 0.001 && edgeDistance(nearest, na, nb, nc) > 3.5 * field.spacing)
+      bool ridge = false;
+      for (const auto& [d, dir] : near)
+        if (d < nearest_d + 1e-4 && dir.dot(near[nearest_t].second) < std::cos(M_PI / 36)) ridge = true;
+      if (exact > 0.001 && at.in_face && edgeDistance(at.point, na, nb, nc) > 1e-4 && !ridge)
         s.angles.push_back(std::acos(std::clamp(contact.normal.dot(face), -1.0, 1.0)) * 180 / M_PI);
       ++done;
     }
     std::printf("%-28s %6zu triangles, grid %3dx%3dx%3d (%.1f mm), built in %.2f s: error p50 %.3f mm, max %.3f mm; "
-                "side wrong %d of %d; normal p95 %.2f deg, max %.2f deg over %zu flat points\n",
+                "side wrong %d of %d (against the winding number %d); normal p95 %.2f deg, max %.2f deg over %zu flat points\n",
                 c.name.c_str(), mesh.triangles.size(), field.nx, field.ny, field.nz, 1000 * field.spacing, build_s,
                 1000 * percentile(s.errors, 0.5), 1000 * percentile(s.errors, 1.0), s.wrong_side, s.sided,
-                percentile(s.angles, 0.95), percentile(s.angles, 1.0), s.angles.size());
+                s.against_winding, percentile(s.angles, 0.95), percentile(s.angles, 1.0), s.angles.size());
     if (c.name.rfind("panda_description/", 0) != 0) {
-      // The UR5's meshes: reported, not held to the bounds (see the issue's note).
-      std::printf("  (UR5: reported only, %d open edges)\n", open);
+      // The UR5's meshes: distance and normals held to the bounds; the side is reported, not held (each is
+      // several overlapping closed shells; the field takes the nearest face's side: see the README).
+      EXPECT_LE(percentile(s.errors, 1.0), 0.001) << c.name << ": distance within 1 mm of FCL's";
+      EXPECT_LE(percentile(s.angles, 1.0), 5.0) << c.name;
+      std::printf("  (UR5: side reported only, %d open edges)\n", open);
       continue;
     }
     if (open > 0) {
@@ -186,9 +224,11 @@ TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
     }
     EXPECT_LE(percentile(s.errors, 1.0), 0.001) << c.name << ": distance within 1 mm of FCL's";
     EXPECT_EQ(s.wrong_side, 0) << c.name;
-    // Normals: p95 within 10 degrees of the face's (the issue asks 5 everywhere smooth: not met yet,
-    // see the note; the largest deviations are printed above).
-    EXPECT_LE(percentile(s.angles, 0.95), 10.0) << c.name;
+    EXPECT_EQ(s.against_winding, 0) << c.name;
+    // Normals within 5 degrees of the face's wherever the surface is smooth (the exact triangle near the
+    // surface: max 0.6 degrees; the trilinear gradient alone made p95 3 to 23 and max 12 to 77 degrees).
+    EXPECT_LE(percentile(s.angles, 0.95), 5.0) << c.name;
+    EXPECT_LE(percentile(s.angles, 1.0), 5.0) << c.name;
     EXPECT_GT(s.angles.size(), 20u) << c.name;
     all.errors.insert(all.errors.end(), s.errors.begin(), s.errors.end());
     ++closed;

@@ -281,9 +281,10 @@ TEST(Client, AStallDuringContactDeliversNoStoredUpForceToTheRobot) {
     // A push's stored-up depth is not delivered at all on the realtime clock (the server's default). Lockstep
     // applies every input in order, so the ones the client sent in the 50 ms before it declared the server
     // lost still arrive: a few newtons more.
-    if (c.mode == haptic_input_t::MODE_PUSH)
+    if (c.mode == haptic_input_t::MODE_PUSH) {
       EXPECT_LE(right_after, before + (std::string(c.clock) == "lockstep" ? 4.0 : 1.0))
           << c.what << ": nothing stored up is delivered";
+    }
   }
 }
 

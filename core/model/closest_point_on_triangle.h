@@ -1,0 +1,36 @@
+// The point of a triangle nearest a point, and whether it lies inside the
+// face (where the face's normal is the surface's) or on an edge or a corner.
+// Ericson, Real-Time Collision Detection, 5.1.5. Shared by the distance-field
+// builder (core/model_io) and the tip query (core/geometry).
+#pragma once
+
+#include "core/model/spatial.h"
+
+namespace igms {
+
+struct TrianglePoint {
+  Vector3 point;
+  bool in_face = false;  // strictly inside the face, not on an edge or a corner
+};
+
+inline TrianglePoint closestPointOnTriangle(const Vector3& p, const Vector3& a, const Vector3& b, const Vector3& c) {
+  const Vector3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {a};
+  const Vector3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {b};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {a + ab * (d1 / (d1 - d3))};
+  const Vector3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {c};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {a + ac * (d2 / (d2 - d6))};
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return {b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))};
+  const double denom = 1.0 / (va + vb + vc);
+  return {a + ab * (vb * denom) + ac * (vc * denom), true};
+}
+
+}  // namespace igms
