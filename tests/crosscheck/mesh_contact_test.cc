@@ -25,6 +25,7 @@
 #include "core/model_io/mesh_fields.h"
 #include "core/model_io/mesh_reader.h"
 #include "core/model_io/urdf_loader.h"
+#include "tests/support/malloc_counter.h"
 
 namespace igms {
 namespace {
@@ -287,6 +288,14 @@ TEST(MeshContact, ThePandaLoadsTouchableAndTheTipFindsItsLinks) {
   for (int k = 0; k < n; ++k) sink += tipContact(shape, pose, tip + Vector3(1e-7 * (k % 100), 0, 0), 0.01).depth;
   const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t1).count() / n;
   std::printf("tip-link query on a mesh: %.0f ns mean over %d (%g)\n", ns, n, sink);
+  // The servo loop's rule: the query and the search over links allocate nothing.
+  const size_t allocations = test::allocationsDuring([&] {
+    for (int k = 0; k < 1000; ++k) {
+      sink += tipContact(shape, pose, tip + Vector3(1e-5 * k, 0, 0), 0.01).depth;
+      sink += deepestContact(m, [&](int f) { return framePose(m, d, f); }, tip, 0.01).contact.depth;
+    }
+  });
+  EXPECT_EQ(allocations, 0u);
 }
 
 TEST(MeshContact, AMissingCollisionMeshNamesTheUrdfTheLinkAndThePathsTried) {
