@@ -17,7 +17,7 @@
 //     push: {k_p: 2000, max_force: 40, tip_radius: 0.01}
 //     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0]}
 //     workspace: {scale: 3.0, offset: [0.5, 0.0, 0.3]}   # scene = offset + scale * device
-//   simulation: {integrator: linearly_implicit, dt: 0.001, rate_hz: 1000, joint_damping: true}
+//   simulation: {integrator: linearly_implicit, dt: 0.001, rate_hz: 1000, joint_damping: true, joint_limits: true}
 //
 // Paths are relative to the scene file. Errors name the file, line and key.
 // Checks against the model (sizes, link names) are resolveScene's
@@ -92,6 +92,8 @@ struct Scene {
   double dt = 1e-3;            // s
   double rate_hz = 1000.0;
   bool joint_damping = true;
+  // URDF position limits enforced (core/simulation/joint_limits.h): a stiff, damped one-sided spring.
+  bool joint_limits = true;
 
   bool needsCollision() const { return !obstacles.empty(); }
 };

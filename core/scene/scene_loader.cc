@@ -231,12 +231,13 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   }
 
   if (const YAML::Node sim = root["simulation"]) {
-    r.onlyKeys(sim, "simulation", {"integrator", "dt", "rate_hz", "joint_damping"});
+    r.onlyKeys(sim, "simulation", {"integrator", "dt", "rate_hz", "joint_damping", "joint_limits"});
     const std::string integ = r.text(sim, "integrator", "linearly_implicit");
     if (!parseIntegrator(integ, &s.integrator)) r.fail(sim["integrator"], "simulation.integrator", "must be semi_implicit_euler, rk4 or linearly_implicit");
     s.dt = r.positive(sim, "dt", s.dt, "simulation");
     s.rate_hz = r.positive(sim, "rate_hz", 1.0 / s.dt, "simulation");
     s.joint_damping = r.flag(sim, "joint_damping", true);
+    s.joint_limits = r.flag(sim, "joint_limits", true);
   }
   return s;
 }

@@ -9,15 +9,17 @@
 #include "core/interaction/push.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
+#include "core/model/configuration.h"
 
 namespace igms {
 
 CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s)
-    : model_(m), scene_(s), data_(m), tau_total_(VectorX::Zero(m.nv)), fext_(static_cast<size_t>(m.nb)),
+    : model_(m), scene_(s), limits_(m, s.q0.size() == m.nq ? s.q0 : neutralConfiguration(m), s.joint_limits), data_(m), tau_total_(VectorX::Zero(m.nv)), fext_(static_cast<size_t>(m.nb)),
       KJ_(3, m.nv), J_(6, m.nv) {}
 
 CoupledEvaluation CoupledDynamics::makeEvaluation() const {
-  return {VectorX::Zero(model_.nv), VectorX::Zero(model_.nv), CouplingForce{}};
+  return {VectorX::Zero(model_.nv), VectorX::Zero(model_.nv), CouplingForce{}, VectorX::Zero(model_.nv),
+          VectorX::Zero(model_.nv)};
 }
 
 // The user's force at the state in data_ (body kinematics done): push, the
@@ -67,6 +69,7 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   if (u.coupled) addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot}, fext_);
   tau_total_ = in.tau;
   if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
+  if (!limits_.empty()) limits_.apply(q, v, tau_total_, out.limit_k, out.limit_b);
   if (!forwardDynamics(model_, data_, q, v, tau_total_, u.coupled ? &fext_ : nullptr)) {
     out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());  // caught by the divergence guard
     return;
@@ -86,6 +89,11 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
   rhs = h * at.F;
   if (scene_.joint_damping) A.diagonal() += h * jointDamping(model_);
   if (in.hold_rate > 0.0) A += (h * in.hold_rate) * data_.H;
+  if (!limits_.empty()) {
+    // The limits' -k d - b s, implicitly: A += h b + h^2 k, rhs -= h^2 k v (zero where none acts).
+    A.diagonal() += h * at.limit_b + (h * h) * at.limit_k;
+    rhs -= (h * h) * at.limit_k.cwiseProduct(v);
+  }
   const CouplingForce& u = at.coupling;
   if (!u.coupled) return;
   pointJacobian(model_, data_, u.frame, u.point_local, J_);

@@ -1,6 +1,6 @@
 // The robot coupled to the user, as the integrators see it: f(q, v) = qdd
-// under the controller torque held over the step, joint damping, the hold
-// damping, and the user's push (eq. 3, U_E = J^T c) or pull (eq. 4,
+// under the controller torque held over the step, joint damping, the joint
+// limits (joint_limits.h), the hold damping, and the user's push (eq. 3, U_E = J^T c) or pull (eq. 4,
 // tau = J^T F) computed against the state being evaluated.
 //
 // Everything a step holds constant is an argument (CoupledInputs), and
@@ -14,6 +14,7 @@
 
 #include "core/dynamics/external_force.h"
 #include "core/scene/scene.h"
+#include "core/simulation/joint_limits.h"
 
 namespace igms {
 
@@ -52,6 +53,7 @@ struct CoupledEvaluation {
   VectorX qdd;  // NaN when H was singular (the divergence guard catches it)
   VectorX F;    // H qdd
   CouplingForce coupling;
+  VectorX limit_k, limit_b;  // per velocity coordinate: the joint limits acting here (joint_limits.h), else 0
 };
 
 class CoupledDynamics {
@@ -87,6 +89,7 @@ class CoupledDynamics {
 
   const Model& model_;
   const Scene& scene_;
+  JointLimits limits_;
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;

@@ -12,7 +12,7 @@ namespace igms {
 
 StatePublisher::StatePublisher(lcm::LCM& bus, const Model& m, const std::vector<Obstacle>& obstacles,
                                FaultInjection faults, bool quiet)
-    : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), fault_epoch_(monotonicSeconds()) {
+    : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
   msg_.nq = m.nq;
   msg_.nv = m.nv;
   msg_.q.resize(static_cast<size_t>(m.nq));
@@ -84,6 +84,7 @@ void StatePublisher::publish(const Snapshot& s) {
   }
   stats_.last_sim_time = s.sim_time;
   stats_.step_times_us.push_back(s.step_us);
+  stats_.limits.observe(s.q);
 }
 
 bool StatePublisher::faultDrops() {

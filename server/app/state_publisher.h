@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "igms/robot_state_t.hpp"
+#include "server/app/joint_limit_report.h"
 #include "server/collision/collision_world.h"
 #include "server/loop/snapshot.h"
 
@@ -25,11 +26,13 @@ struct FaultInjection {
 
 // What the status reports about the published states.
 struct PublishStats {
+  explicit PublishStats(const Model& model) : limits(model) {}
   double last_sim_time = 0.0;
   int64_t collisions = 0;              // published states in collision
   double first_collision = -1.0;       // s
   double min_distance = 1e9;           // m, over the run
   std::vector<double> step_times_us;   // since the status last drained them
+  JointLimitReport limits;             // joints beyond their position limits, over the run
 };
 
 class StatePublisher {

@@ -88,6 +88,15 @@ void StatusReporter::publishStatus(PublishStats& p) {
   s.inputs_missed = bus.inputs_missed;
   s.socket_drops = ownUdpDrops();
   s.resume_ramps = loop_.resume_ramps.load();
+  s.limited_joints.clear();
+  s.limit_steps.clear();
+  s.limit_excess.clear();
+  for (const JointLimitReport::Entry& e : p.limits.hits()) {
+    s.limited_joints.push_back(e.joint);
+    s.limit_steps.push_back(e.steps);
+    s.limit_excess.push_back(e.excess);
+  }
+  s.nlimited = static_cast<int32_t>(s.limited_joints.size());
   bus_.publish(channels::kServerStatus, &s);
   if (seq_ % 10 == 1) requestSessionInfo(s.session_token);
   window_start_ = now;
@@ -104,6 +113,10 @@ void StatusReporter::print(const server_status_t& s, const PublishStats& p) cons
                static_cast<long long>(s.inputs_rejected), static_cast<long long>(s.commands_received),
                static_cast<long long>(s.commands_rejected), static_cast<long long>(p.collisions), p.min_distance,
                s.state.c_str(), s.message.empty() ? "" : ": ", s.message.c_str());
+  for (int k = 0; k < s.nlimited; ++k)
+    std::fprintf(stderr, "igms-server:   %s beyond its position limit in %lld states, by %.4f at most\n",
+                 s.limited_joints[static_cast<size_t>(k)].c_str(), static_cast<long long>(s.limit_steps[static_cast<size_t>(k)]),
+                 s.limit_excess[static_cast<size_t>(k)]);
 }
 
 }  // namespace igms

@@ -124,6 +124,29 @@ TEST(Server, StreamsStateAtOneKilohertzAndStopsOnSigterm) {
   EXPECT_EQ(server.stop(), 0) << "clean exit on SIGTERM";
 }
 
+// The paper's nominal motion takes the PUMA's wrist (joint5) to 115 deg, past its URDF limit of 100 deg,
+// from t = 2.33 s; its scenes keep the limits off (the paper modelled none), and the status says where the
+// motion leaves the robot's range.
+TEST(Server, TheStatusNamesTheJointsThatWentBeyondTheirLimits) {
+  Listener listener;
+  ChildProcess server = startServer("puma_wall.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  for (int k = 0; k < 800; ++k) {
+    {
+      std::lock_guard<std::mutex> l(listener.mutex);
+      if (listener.status.sim_time > 4.0) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::lock_guard<std::mutex> l(listener.mutex);
+  const server_status_t& st = listener.status;
+  ASSERT_GT(st.sim_time, 4.0);
+  ASSERT_EQ(st.nlimited, 1);
+  EXPECT_EQ(st.limited_joints[0], "joint5");
+  EXPECT_NEAR(st.limit_excess[0], 2.0047 - 1.7453, 0.01) << "the wrist's farthest, beyond 100 deg";
+  EXPECT_GT(st.limit_steps[0], 500);
+}
+
 TEST(Server, PushChangesTheTrajectoryAndPullDragsTheEndEffector) {
   Listener listener;
   ChildProcess server = startServer("puma_wall.yaml");
