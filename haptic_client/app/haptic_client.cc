@@ -16,7 +16,10 @@
 namespace igms {
 namespace {
 
-// Waits for the server's status (its session token and link order) and checks it runs this scene's model.
+constexpr int kStoppedWaiting = -1;
+
+// Waits for the server's status (its session token and link order) and checks it runs this scene's model:
+// 0, an exit code, or kStoppedWaiting.
 int connect(ClientBus& bus, const Model& model, const ClientOptions& o, const std::atomic<bool>& stop) {
   const double t0 = monotonicSeconds();
   while (!bus.haveServer() && !stop) {
@@ -25,6 +28,10 @@ int connect(ClientBus& bus, const Model& model, const ClientOptions& o, const st
       return 3;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  if (!bus.haveServer()) {  // stopped (Ctrl-C, SIGTERM) while waiting: nothing to compare
+    std::fprintf(stderr, "igms-haptic: stopped before any server appeared\n");
+    return kStoppedWaiting;
   }
   const size_t server_links = bus.serverLinkNames().size();
   if (server_links != model.frames.size()) {
@@ -99,7 +106,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   }
   static ServoStats stats;  // large (histograms): static storage, one client per process
   ClientStatusThread status(bus, stats, ClientIdentity{o.client_id, device->name(), fallbackName(policy), o.lost_ms});
-  if (const int code = connect(bus, model, o, stop)) return code;
+  if (const int code = connect(bus, model, o, stop)) return code == kStoppedWaiting ? 0 : code;
   if (!o.quiet)
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
                  o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));

@@ -9,6 +9,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <lcm/lcm-cpp.hpp>
 #include <mutex>
 #include <thread>
@@ -286,6 +288,22 @@ TEST(Client, AStallDuringContactDeliversNoStoredUpForceToTheRobot) {
           << c.what << ": nothing stored up is delivered";
     }
   }
+}
+
+// Stopped while it waits for a server that never came: a clean exit that says so (it used to compare the
+// missing server's link count with the scene's: "not the same scene?").
+TEST(Client, StoppedBeforeAnyServerAppearsItSaysSoAndExitsCleanly) {
+  const std::string err = ::testing::TempDir() + "/client_no_server.err";
+  ChildProcess client({"/bin/sh", "-c",
+                       std::string("exec ") + std::getenv("IGMS_CLIENT_BIN") + " --scene " + sourceDir() +
+                           "/scenes/puma_wall.yaml --device scripted:" + sourceDir() +
+                           "/scenes/push_demo.yaml --lcm-url '" + url() + "' 2> " + err});
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_EQ(client.stop(), 0);
+  std::ifstream in(err);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(said.find("stopped before any server appeared"), std::string::npos) << said;
+  EXPECT_EQ(said.find("not the same scene"), std::string::npos) << said;
 }
 
 // One such datagram on the status channel used to abort the client, which in a

@@ -204,5 +204,24 @@ TEST(Replay, ACorruptLogIsReportedWithItsByteOffset) {
   std::remove(log.c_str());
 }
 
+// Export into a folder that does not exist yet (out/x with no out/), and every CSV starts with its header.
+TEST(Replay, ExportMakesItsFolderAndEveryCsvHasAHeader) {
+  const std::string dir = temp("export_parent") + "/nested/export";
+  ChildProcess ex({"/bin/sh", "-c",
+                   tool("igms-replay") + " export " + sourceDir() + "/tests/replay/data/push.lcmlog " + dir +
+                       " 2> /dev/null"});
+  ASSERT_EQ(ex.wait(std::chrono::seconds(20)), 0);
+  for (const auto& [file, first] : std::vector<std::pair<std::string, std::string>>{
+           {"states.csv", "t,seq,input_seq,mode,q0"},
+           {"inputs.csv", "utime,seq,mode,tip_x"},
+           {"client_status.csv", "utime,cycles,rate_hz"},
+           {"server_status.csv", "t,steps,rate_hz"}}) {
+    std::ifstream in(dir + "/" + file);
+    std::string header;
+    ASSERT_TRUE(std::getline(in, header)) << file;
+    EXPECT_EQ(header.rfind(first, 0), 0u) << file << ": " << header;
+  }
+}
+
 }  // namespace
 }  // namespace igms::test

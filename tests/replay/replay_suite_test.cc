@@ -55,6 +55,7 @@ INSTANTIATE_TEST_SUITE_P(Sessions, ReplaySuite,
 }  // namespace igms::test
 
 #include "channels.h"
+#include "core/simulation/simulation.h"
 #include "tools/replay/recorded_session.h"
 
 namespace igms::test {
@@ -83,6 +84,18 @@ TEST(RecordedSession, UndecodableMessagesAreCountedAndNamedNotFatal) {
   const ResimResult r = resimulate(log.events, sourceDir());
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.error.find("did not decode"), std::string::npos) << r.error;
+}
+
+// A server started with an absolute scene path: the scene's relative model path resolves from the
+// scene's own folder, whatever the base folder (it used to be joined to it: ".//abs/...: cannot open").
+TEST(RecordedSession, AnAbsoluteScenePathResolvesWithoutTheBaseFolder) {
+  log::LogContents log = log::readAll(sourceDir() + "/tests/replay/data/push.lcmlog");
+  RecordedSession session = readRecordedSession(log.events);
+  ASSERT_TRUE(session.has_info);
+  session.info.scene_path = sourceDir() + "/scenes/puma_wall.yaml";
+  const Scene scene = recordedScene(session, "/nonexistent-base");
+  EXPECT_NE(scene.build.floating_base, true);
+  EXPECT_EQ(Simulation(scene).model().nv, 6) << "the PUMA loaded from ../models beside the scene";
 }
 
 }  // namespace

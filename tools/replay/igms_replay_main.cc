@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
@@ -159,7 +160,8 @@ int resim(const std::string& path, const ResimOptions& o) {
 
 int exportCsv(const std::string& path, const std::string& dir) {
   const auto c = load(path);
-  mkdir(dir.c_str(), 0755);
+  std::error_code made;
+  std::filesystem::create_directories(dir, made);  // out/x when out/ does not exist yet
   std::ofstream states(dir + "/states.csv"), inputs(dir + "/inputs.csv"), client(dir + "/client_status.csv"),
       server(dir + "/server_status.csv");
   if (!states) {
@@ -168,6 +170,12 @@ int exportCsv(const std::string& path, const std::string& dir) {
   }
   states.precision(17);
   inputs.precision(17);
+  // Every file starts with its header (states.csv's depends on the robot: written with its first row).
+  inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link\n";
+  client << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
+            "rendered_fx,rendered_fy,rendered_fz\n";
+  server << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
+            "first_collision_time,min_obstacle_distance,commands_received,commands_rejected\n";
   bool header = false;
   std::vector<std::string> links;  // the state's link order, from any server status in the log
   for (const auto& e : c.events) {

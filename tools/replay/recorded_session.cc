@@ -1,6 +1,7 @@
 #include "tools/replay/recorded_session.h"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "channels.h"
 #include "safe_decode.h"
@@ -32,10 +33,11 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
 }
 
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir) {
-  const std::string& path = session.info.scene_path;
-  const size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? base_dir : base_dir + "/" + path.substr(0, slash);
-  return parseScene(session.info.scene_text, path, dir);
+  // An absolute scene path (the server started with one) stands on its own; a relative one was relative to
+  // the server's working directory, base_dir.
+  const std::filesystem::path path(session.info.scene_path);
+  const std::filesystem::path dir = path.is_absolute() ? path.parent_path() : std::filesystem::path(base_dir) / path.parent_path();
+  return parseScene(session.info.scene_text, session.info.scene_path, dir.empty() ? "." : dir.string());
 }
 
 }  // namespace igms

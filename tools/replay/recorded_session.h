@@ -28,8 +28,9 @@ struct RecordedSession {
 
 RecordedSession readRecordedSession(const std::vector<log::Event>& events);
 
-// The scene of the session; base_dir resolves its relative paths (the
-// server's working directory at record time). Throws SceneError / ModelError.
+// The scene of the session; base_dir resolves a relative scene path (the
+// server's working directory at record time), an absolute one needs none.
+// Throws SceneError / ModelError.
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir);
 
 }  // namespace igms
