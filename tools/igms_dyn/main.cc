@@ -21,10 +21,12 @@ int main(int argc, char** argv) {
   auto* eval = app.add_subcommand(
       "eval", "JSON lines {q, v, a?, tau?, fext?} on stdin -> {tau?, M, bias, qdd?, poses} on stdout");
   auto* bench = app.add_subcommand("bench", "median microseconds per call of rnea, crba, bias, fd, aba, fk, jacobian");
+  // Before or after the subcommand: igms-dyn --verbose info ... and igms-dyn info ... --verbose.
+  app.add_flag("--floating-base", floating, "a free root (7 q, 6 v first)");
+  app.add_flag("--verbose", verbose, "print the model's load warnings");
   for (CLI::App* cmd : {info, eval, bench}) {
     cmd->add_option("--model", model_path, "ROBOT.urdf or ROBOT.dh.yaml")->required()->check(CLI::ExistingFile);
-    cmd->add_flag("--floating-base", floating, "a free root (7 q, 6 v first)");
-    cmd->add_flag("--verbose", verbose, "print the model's load warnings");
+    cmd->fallthrough();
   }
   bench->add_flag("--json", json, "one JSON object");
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
