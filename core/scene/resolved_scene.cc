@@ -19,7 +19,17 @@ VectorX perJoint(const Scene& s, const VectorX& given, double scalar, const char
 ResolvedScene resolveScene(const Scene& scene) {
   ResolvedScene r;
   r.scene = scene;
-  r.model = std::make_shared<const Model>(loadModel(scene.model_path, scene.build));
+  {
+    Model loaded = loadModel(scene.model_path, scene.build);
+    for (const LinkCollision& lc : scene.collision) {
+      const int f = loaded.frameIndex(lc.link);
+      if (f < 0) throw SceneError(scene.source + ": robot.collision." + lc.link + ": no such link in " + scene.model_path);
+      std::vector<CollisionShape>& shapes = loaded.frames[static_cast<size_t>(f)].collisions;
+      if (!lc.keep_urdf) shapes.clear();
+      shapes.insert(shapes.end(), lc.shapes.begin(), lc.shapes.end());
+    }
+    r.model = std::make_shared<const Model>(std::move(loaded));
+  }
   const Model& m = *r.model;
   for (size_t i = 0; i < m.joint_mimic.size(); ++i)
     if (!m.joint_mimic[i].empty())

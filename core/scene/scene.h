@@ -3,6 +3,9 @@
 //
 //   name: puma_wall
 //   robot: {model: ../models/puma560.urdf, floating_base: false}
+//   robot.collision:                           # optional, per link: instead of the URDF's shapes
+//     link3: [{shape: cylinder, radius: 0.06, length: 0.4, xyz: [0, 0, 0.2]}]
+//     link4: [from_urdf, {shape: sphere, radius: 0.05}]   # the URDF's and one more
 //   gravity: [0, 0, -9.81]
 //   initial: {q: [...], v: [...]}              # default: neutral, at rest
 //   obstacles:                                 # boxes, spheres, cylinders
@@ -45,6 +48,14 @@ struct Obstacle {
   CollisionShape shape;  // placement = pose in the world
 };
 
+// robot.collision: a link's collision shapes set by the scene (primitives, in the link's frame), instead of
+// the URDF's or, with keep_urdf, beside them.
+struct LinkCollision {
+  std::string link;
+  bool keep_urdf = false;
+  std::vector<CollisionShape> shapes;
+};
+
 struct TrajectorySpec {
   enum class Kind { None, JointWaypoints, CartesianLine };
   Kind kind = Kind::None;
@@ -80,6 +91,7 @@ struct Scene {
   BuildOptions build;          // floating base, gravity
   VectorX q0, v0;              // empty: neutral, at rest
   std::vector<Obstacle> obstacles;
+  std::vector<LinkCollision> collision;  // robot.collision, applied by resolveScene
   TrajectorySpec trajectory;
   VectorX kp, kd;              // computed-torque gains per dof as written (empty: the scalars)
   double kp_scalar = 100.0, kd_scalar = 20.0;

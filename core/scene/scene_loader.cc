@@ -84,6 +84,28 @@ SE3 pose(const Reader& r, const YAML::Node& n) {
   return fromXyzRpy(r.vector3(n, "xyz", Vector3::Zero()), r.vector3(n, "rpy", Vector3::Zero()));
 }
 
+// A box, sphere or cylinder with its pose: obstacles (in the world) and robot.collision (in a link's frame).
+CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string& where) {
+  CollisionShape c;
+  const std::string shape = r.text(o, "shape", "");
+  if (shape == "box") {
+    c.kind = CollisionShape::Kind::Box;
+    if (!o["size"]) r.fail(o, where + ".size", "missing");
+    c.size = r.numbers(o["size"], where + ".size", 3);
+    if ((c.size.array() <= 0.0).any()) r.fail(o["size"], where + ".size", "must be positive");
+  } else if (shape == "sphere") {
+    c.kind = CollisionShape::Kind::Sphere;
+    c.size = Vector3(r.positive(o, "radius", 0.0, where), 0, 0);
+  } else if (shape == "cylinder") {
+    c.kind = CollisionShape::Kind::Cylinder;
+    c.size = Vector3(r.positive(o, "radius", 0.0, where), r.positive(o, "length", 0.0, where), 0);
+  } else {
+    r.fail(o["shape"] ? o["shape"] : o, where + ".shape", "must be box, sphere or cylinder");
+  }
+  c.placement = pose(r, o);
+  return c;
+}
+
 std::string join(const std::string& dir, const std::string& path) {
   if (path.empty() || path[0] == '/' || dir.empty()) return path;
   return dir + "/" + path;
@@ -110,11 +132,31 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
 
   const YAML::Node robot = root["robot"];
   if (!robot) r.fail(root, "robot", "missing");
-  r.onlyKeys(robot, "robot", {"model", "floating_base"});
+  r.onlyKeys(robot, "robot", {"model", "floating_base", "collision"});
   const std::string model = r.text(robot, "model", "");
   if (model.empty()) r.fail(robot, "robot.model", "missing");
   s.model_path = join(base_dir, model);
   s.build.floating_base = r.flag(robot, "floating_base", false);
+  if (const YAML::Node collision = robot["collision"]) {
+    // Per link: its collision shapes instead of the URDF's; the item from_urdf keeps the URDF's too.
+    if (!collision.IsMap()) r.fail(collision, "robot.collision", "expected a map of link names");
+    for (const auto& kv : collision) {
+      LinkCollision lc;
+      lc.link = kv.first.as<std::string>();
+      const std::string where = "robot.collision." + lc.link;
+      if (!kv.second.IsSequence()) r.fail(kv.second, where, "expected a list of shapes (and from_urdf)");
+      for (const auto& item : kv.second) {
+        if (item.IsScalar() && item.as<std::string>() == "from_urdf") {
+          lc.keep_urdf = true;
+          continue;
+        }
+        if (!item.IsMap()) r.fail(item, where + "[]", "expected a shape or from_urdf");
+        r.onlyKeys(item, where + "[]", {"shape", "size", "radius", "length", "xyz", "rpy"});
+        lc.shapes.push_back(primitive(r, item, where + "[]"));
+      }
+      s.collision.push_back(lc);
+    }
+  }
   s.build.gravity = r.vector3(root, "gravity", Vector3(0, 0, -9.81));
 
   if (const YAML::Node init = root["initial"]) {
@@ -129,22 +171,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       r.onlyKeys(o, "obstacles[]", {"name", "shape", "size", "radius", "length", "xyz", "rpy"});
       Obstacle ob;
       ob.name = r.text(o, "name", "obstacle" + std::to_string(s.obstacles.size()));
-      const std::string shape = r.text(o, "shape", "");
-      if (shape == "box") {
-        ob.shape.kind = CollisionShape::Kind::Box;
-        if (!o["size"]) r.fail(o, "obstacles[].size", "missing");
-        ob.shape.size = r.numbers(o["size"], "obstacles[].size", 3);
-        if ((ob.shape.size.array() <= 0.0).any()) r.fail(o["size"], "obstacles[].size", "must be positive");
-      } else if (shape == "sphere") {
-        ob.shape.kind = CollisionShape::Kind::Sphere;
-        ob.shape.size = Vector3(r.positive(o, "radius", 0.0, "obstacles[]"), 0, 0);
-      } else if (shape == "cylinder") {
-        ob.shape.kind = CollisionShape::Kind::Cylinder;
-        ob.shape.size = Vector3(r.positive(o, "radius", 0.0, "obstacles[]"), r.positive(o, "length", 0.0, "obstacles[]"), 0);
-      } else {
-        r.fail(o["shape"] ? o["shape"] : o, "obstacles[].shape", "must be box, sphere or cylinder");
-      }
-      ob.shape.placement = pose(r, o);
+      ob.shape = primitive(r, o, "obstacles[]");
       s.obstacles.push_back(ob);
     }
   }

@@ -44,6 +44,59 @@ TEST(Scenes, ComponentsFollowWhatTheSceneUses) {
   EXPECT_FALSE(has(fb, "fixed_base"));
 }
 
+// robot.collision: a robot whose URDF has no collision geometry (the 7-dof arm) gets shapes from the scene,
+// and the push touches them; from_urdf keeps the URDF's beside the scene's; a bad link or shape is an error
+// naming the scene and the key.
+TEST(Scenes, TheSceneGivesOrReplacesALinksCollisionShapes) {
+  const std::string dir = sourceDir() + "/scenes";
+  auto pushOnLink4 = [&](const std::string& collision) {
+    Simulation sim(parseScene("robot:\n  model: ../models/arm7.urdf\n" + collision +
+                                  "interaction: {push: {k_p: 2000, max_force: 40, tip_radius: 0.01}}\n",
+                              "arm7_collision.yaml", dir));
+    const int link4 = sim.model().frameIndex("link4");
+    InteractionInput push;
+    push.mode = InteractionMode::Push;
+    push.contact_frame = link4;
+    push.tip_radius = 0.01;
+    // 5 mm into a 5 cm sphere at the link's origin, from above.
+    push.tip_position = sim.linkPoses()[static_cast<size_t>(link4)].p + Vector3(0, 0, 0.055);
+    push.seq = 1;
+    EXPECT_TRUE(sim.step(&push));
+    return std::make_pair(sim.outcome().force_on_robot.norm(), sim.model().frame(link4).collisions.size());
+  };
+  const auto [none, none_shapes] = pushOnLink4("");
+  EXPECT_EQ(none_shapes, 0u);
+  EXPECT_EQ(none, 0.0) << "nothing to touch: the URDF has no collision geometry";
+  const auto [touched, shapes] = pushOnLink4("  collision:\n    link4: [{shape: sphere, radius: 0.05}]\n");
+  EXPECT_EQ(shapes, 1u);
+  EXPECT_NEAR(touched, 2000 * 0.005, 0.5) << "k_p d on the scene's sphere";
+  Simulation puma(parseScene("robot:\n  model: ../models/puma560.urdf\n  collision:\n"
+                             "    link3: [from_urdf, {shape: box, size: [0.1, 0.1, 0.1], xyz: [0, 0, 0.3]}]\n"
+                             "    link2: [{shape: sphere, radius: 0.2}]\n",
+                             "puma_collision.yaml", dir));
+  Simulation plain(loadScene(dir + "/puma_wall.yaml"));
+  const auto count = [](const Simulation& sim, const char* link) {
+    return sim.model().frame(sim.model().frameIndex(link)).collisions.size();
+  };
+  EXPECT_EQ(count(puma, "link3"), count(plain, "link3") + 1) << "from_urdf: the URDF's and the scene's";
+  EXPECT_EQ(count(puma, "link2"), 1u) << "replaced";
+  EXPECT_EQ(puma.model().frame(puma.model().frameIndex("link2")).collisions[0].kind, CollisionShape::Kind::Sphere);
+  auto error = [&](const std::string& collision) {
+    try {
+      Simulation sim(parseScene("robot:\n  model: ../models/arm7.urdf\n  collision:\n" + collision, "bad.yaml", dir));
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error("    link9: [{shape: sphere, radius: 0.05}]\n").find("bad.yaml: robot.collision.link9: no such link"),
+            std::string::npos);
+  EXPECT_NE(error("    link4: [{shape: cone, radius: 0.05}]\n").find("robot.collision.link4[].shape: must be box"),
+            std::string::npos);
+  EXPECT_NE(error("    link4: [{shape: sphere}]\n").find("robot.collision.link4[].radius: must be positive"),
+            std::string::npos);
+}
+
 TEST(Scenes, ErrorsNameFileLineAndKey) {
   auto error = [](const std::string& yaml) {
     try {
