@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/model/closest_point_on_triangle.h"
 
@@ -186,6 +187,16 @@ TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector
   out.normal = pose.R * normal;
   out.point = pose.act(surface);
   return out;
+}
+
+double meshSignedDistance(const CollisionShape& mesh, const SE3& pose, const Vector3& p) {
+  double distance = 0.0;
+  Vector3 gradient;
+  if (!mesh.field ||
+      !sampleField(*mesh.field, pose.R.transpose() * (p - pose.p), std::numeric_limits<double>::infinity(), &distance,
+                   &gradient))
+    return std::numeric_limits<double>::infinity();
+  return distance;
 }
 
 }  // namespace igms

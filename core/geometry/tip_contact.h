@@ -15,8 +15,13 @@ struct TipContact {
 };
 
 // shape.placement is ignored; pose is the shape's world pose. Meshes are
-// tested against their distance field (trilinear, constant time); a mesh
-// without one never touches.
+// tested against their distance field and, near the surface, their nearest
+// triangles (constant time); a mesh without a field never touches.
 TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector3& tip_center, double tip_radius);
+
+// A collision mesh's signed distance at p from its field's grid (negative
+// inside, clamped to the field's band; +infinity outside the grid or without
+// a field): the obstacle monitor's test for a shape wholly inside a mesh.
+double meshSignedDistance(const CollisionShape& mesh, const SE3& pose, const Vector3& p);
 
 }  // namespace igms

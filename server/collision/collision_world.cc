@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/geometry/tip_contact.h"
+
 namespace igms {
 namespace {
 
@@ -52,6 +54,11 @@ double boundingRadius(const CollisionShape& s) {
   return 0.0;
 }
 
+constexpr double kTouching = 1e-9;  // m
+
+// The field's signed distance at p is negative: p is inside the mesh.
+bool insideMesh(const CollisionShape& mesh, const SE3& X, const Vector3& p) { return meshSignedDistance(mesh, X, p) < 0.0; }
+
 }  // namespace
 
 struct CollisionWorld::Impl {
@@ -60,6 +67,7 @@ struct CollisionWorld::Impl {
     SE3 placement;
     double radius;
     std::unique_ptr<fcl::CollisionObjectd> object;
+    const CollisionShape* field = nullptr;  // a mesh with its distance field: for the inside test
   };
   struct ObstacleShape {
     std::string name;
@@ -84,8 +92,9 @@ CollisionWorld::CollisionWorld(const Model& model, const std::vector<Obstacle>& 
     if (model.frames[f].body < 0) continue;  // fixed to the world (the base): never collides with its surroundings
     for (const auto& s : model.frames[f].collisions)
       if (auto g = geometry(s))
-        impl_->links.push_back(
-            {static_cast<int>(f), s.placement, boundingRadius(s), std::make_unique<fcl::CollisionObjectd>(g)});
+        impl_->links.push_back({static_cast<int>(f), s.placement, boundingRadius(s),
+                                std::make_unique<fcl::CollisionObjectd>(g),
+                                s.kind == CollisionShape::Kind::Mesh && s.field ? &s : nullptr});
   }
   for (const auto& o : obstacles) {
     auto g = geometry(o.shape);
@@ -125,7 +134,12 @@ CollisionReport CollisionWorld::check(const std::vector<SE3>& poses) {
     l.object->computeAABB();
     fcl::DistanceResultd result;
     fcl::distance(l.object.get(), o.object.get(), request, result);
-    result.min_distance = std::max(0.0, result.min_distance);  // FCL says -1 for "colliding"
+    // FCL says -1 for "colliding", and about 1e-322 for a shape cutting a mesh's triangles.
+    if (result.min_distance < kTouching) result.min_distance = 0.0;
+    // A mesh's distance is to its triangles: an obstacle whose centre lies inside the mesh (its signed
+    // distance field says so) is in collision however far it is from the surface.
+    if (result.min_distance > 0.0 && l.field && insideMesh(*l.field, poses[static_cast<size_t>(l.frame)] * l.placement, o.centre))
+      result.min_distance = 0.0;
     if (result.min_distance < out.min_distance) {
       out.min_distance = result.min_distance;
       out.closest_link = impl_->model.frames[static_cast<size_t>(l.frame)].name;
