@@ -11,6 +11,7 @@ Uses Debian's python3 (matplotlib, numpy, yaml from apt)."""
 import argparse
 import csv
 import os
+import sys
 
 import matplotlib
 
@@ -19,6 +20,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 from mpl_toolkits.mplot3d import Axes3D  # noqa: E402,F401
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "lib"))
+from scene_frames import end_effector  # noqa: E402
 
 MODES = {1: "push", 2: "pull"}
 
@@ -116,7 +120,7 @@ def main():
     ap.add_argument("export_dir")
     ap.add_argument("--out", default=None)
     ap.add_argument("--title", default="")
-    ap.add_argument("--ee", default="ee_link")
+    ap.add_argument("--ee", default=None, help="the frame whose path is drawn (default: the scene's end-effector)")
     args = ap.parse_args()
     out = args.out or args.export_dir
     os.makedirs(out, exist_ok=True)
@@ -155,7 +159,7 @@ def main():
     save(fig, out, "forces")
 
     links = [h[:-2] for h in header if h.endswith(".x")]
-    ee = args.ee if f"{args.ee}.x" in s else links[-1]
+    ee = args.ee if args.ee and f"{args.ee}.x" in s else end_effector(scene, links)
     path = np.stack([s[f"{ee}.x"], s[f"{ee}.y"], s[f"{ee}.z"]], 1)
     fig = plt.figure(figsize=(6.5, 6))
     ax = fig.add_subplot(projection="3d")
