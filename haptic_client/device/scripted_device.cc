@@ -56,6 +56,11 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
       wp.resolved = true;
     }
     if (!waypoints_.empty() && !(wp.t > waypoints_.back().t)) fail(path, p, "waypoint times must increase");
+    if (!wp.link.empty() && !waypoints_.empty()) {
+      const Waypoint& before = waypoints_.back();
+      wp.hold = before.link == wp.link && before.point == wp.point && before.offset == wp.xyz;
+    }
+    wp.offset = wp.xyz;
     waypoints_.push_back(wp);
   }
   if (const YAML::Node b = root["buttons"])
@@ -66,10 +71,19 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
 Vector3 ScriptedDevice::target(double t) {
   // Link-relative waypoints take the link's position when the script reaches
   // the segment leading to them, and keep it (the push then follows the script).
+  // One that repeats the waypoint before it (same link, point and offset) is a
+  // hold: it keeps that waypoint's position, wherever the link has gone since
+  // (a pulled link moves, and re-reading it would move the hand again).
   for (size_t k = 0; k < waypoints_.size(); ++k) {
     Waypoint& w = waypoints_[k];
     const double segment_start = k > 0 ? waypoints_[k - 1].t : w.t;
     if (w.resolved || t < segment_start) continue;
+    if (k > 0 && w.hold) {
+      if (!waypoints_[k - 1].resolved) continue;
+      w.xyz = waypoints_[k - 1].xyz;
+      w.resolved = true;
+      continue;
+    }
     SE3 X;
     if (!link_pose_ || !link_pose_(w.link, &X)) continue;
     const Vector3 p = X.act(w.point);

@@ -49,6 +49,8 @@ class ScriptedDevice : public HapticDevice {
     Vector3 xyz;         // scene or device, per frame_scene_
     std::string link;    // when set, the target is the link's point plus xyz (world)
     Vector3 point = Vector3::Zero();  // in the link frame
+    Vector3 offset = Vector3::Zero(); // as written (xyz becomes the resolved target)
+    bool hold = false;                // the same link, point and offset as the waypoint before: stay there
     bool resolved = false;
   };
   Vector3 target(double t);

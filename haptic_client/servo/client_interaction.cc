@@ -32,6 +32,7 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   if (pulling_) mode = haptic_input_t::MODE_PULL;
   else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
   if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
+  if (was_pulling && !pulling_) clear_cycles_ = 0;  // a released tip is inert until it has left the robot
   if (mode != haptic_input_t::MODE_NONE && mode != static_cast<int8_t>(input_.mode)) passivity_.restart();  // a new interaction
   msg.mode = mode;
   for (int i = 0; i < 3; ++i) {
@@ -84,6 +85,12 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   // shallow, and lasts until the tip leaves. A tip that appears deep inside
   // (a jump, or a pull released inside the wrist) pushes nothing.
   push_engaged_ = contact_.touching && (push_engaged_ || contact_.depth < kEngageDepth);
+  // After a pull is let go the hand withdraws from where it held the robot, often through it (between a
+  // gripper's fingers): the tip pushes nothing until it has been clear of every link for kReleaseClearCycles.
+  if (clear_cycles_ < kReleaseClearCycles) {
+    clear_cycles_ = touch.contact.touching ? 0 : clear_cycles_ + 1;
+    push_engaged_ = false;
+  }
   if (!push_engaged_) contact_ = TipContact{};
   if (contact_.touching) on_user = -pushForce(contact_, scene_.push.k_p, scene_.push.max_force).on_link;
   return on_user;

@@ -65,6 +65,8 @@ class ClientInteraction {
   double max_force_step_ = 0.0;
   int64_t slew_limited_ = 0;
   static constexpr double kEngageDepth = 0.005;  // m: a push starts at the surface
+  static constexpr int kReleaseClearCycles = 50;  // 50 ms at 1 kHz clear of the robot after a pull is let go
+  int clear_cycles_ = kReleaseClearCycles;        // below: a released tip, still inert
 };
 
 }  // namespace igms

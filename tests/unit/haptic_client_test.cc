@@ -153,5 +153,31 @@ TEST(ScriptedDevice, SimulatedHandFeelsTheRenderedForce) {
   EXPECT_NEAR(pushed.read(1.0).position.x(), 2.0 / 400.0, 2e-4) << "the hand gives way by F / k";
 }
 
+// A link-relative waypoint is read where the link is when the script starts toward it; one that repeats
+// the waypoint before it (same link, point, offset) is a hold and stays where that one was, however far the
+// link has moved since. Before the rule the hold was re-read from the moved link, and a 15 cm pull became 30.
+TEST(ScriptedDevice, ARepeatedLinkWaypointHoldsWhereTheOneBeforeIt) {
+  const std::string path = writeScript(
+      "frame: scene\nwaypoints:\n  - {t: 0.0, link: arm, offset: [0, 0, 0]}\n"
+      "  - {t: 1.0, link: arm, offset: [0.15, 0, 0]}\n  - {t: 2.0, link: arm, offset: [0.15, 0, 0]}\n"
+      "  - {t: 3.0, link: arm, offset: [0.15, 0, 0.1]}\nend: 3.0\n");
+  double link_x = 0.0;  // the link follows the device (a pull drags it): wherever it was last told
+  ScriptedDevice d(path, WorkspaceMap{}, [&](const std::string& name, SE3* X) {
+    if (name != "arm") return false;
+    *X = SE3::Identity();
+    X->p = Vector3(link_x, 0, 0);
+    return true;
+  });
+  for (int k = 0; k <= 2000; ++k) {
+    const DeviceReading r = d.read(k * 1e-3);
+    link_x = r.position.x() - 0.01;  // 1 cm behind the hand
+  }
+  EXPECT_NEAR(d.read(2.0).position.x(), 0.15, 1e-9) << "held at the 15 cm the script says, not 30";
+  // The next waypoint is not a repeat: it is read from the link where it is now (0.14 m), plus its offset.
+  for (int k = 2001; k <= 3000; ++k) d.read(k * 1e-3);
+  EXPECT_NEAR(d.read(3.0).position.x(), 0.14 + 0.15, 1e-9);
+  EXPECT_NEAR(d.read(3.0).position.z(), 0.1, 1e-9);
+}
+
 }  // namespace
 }  // namespace igms
