@@ -162,8 +162,9 @@ TipContact tipContact(const CollisionShape& shape, const SE3& pose, const Vector
       const DistanceField& f = *shape.field;
       double distance = 0.0;
       Vector3 gradient;
-      // The interpolation may overstate the distance by up to a spacing: reach that much further.
-      if (!sampleField(f, c, tip_radius + f.spacing, &distance, &gradient)) return out;
+      // Each corner's distance is within sqrt(3) spacings of p's (the distance is 1-Lipschitz), so the
+      // interpolation overstates it by at most that: reach that much further before giving up.
+      if (!sampleField(f, c, tip_radius + std::sqrt(3.0) * f.spacing, &distance, &gradient)) return out;
       Vector3 on_surface;
       if (!(shape.triangles && !f.nearest.empty() &&
             nearestOnMesh(f, *shape.triangles, c, distance, &distance, &normal, &on_surface))) {
