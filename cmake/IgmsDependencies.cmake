@@ -12,6 +12,7 @@ if(NOT TARGET yaml-cpp::yaml-cpp)
   target_link_libraries(yaml-cpp::yaml-cpp INTERFACE yaml-cpp)
 endif()
 find_package(nlohmann_json 3 REQUIRED)
+find_package(ZLIB REQUIRED)  # compressed logs, the model file a log carries
 
 if(IGMS_WITH_LCM)
   # Debian's LCM 1.3.1 has no CMake config and its lcm.pc needs glib's .pc:

@@ -17,6 +17,6 @@ igms_stop_all
 cat "$dir/stats.json"
 size=$(stat -c %s "$dir/soak.lcmlog")
 echo "logger_soak: $seconds s, log $((size / 1048576)) MiB"
-dropped=$(sed -n 's/.*"dropped": \([0-9]*\).*/\1/p' "$dir/stats.json")
+dropped=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))[\"dropped\"])" "$dir/stats.json")
 rm -rf "$dir"
 [[ "$dropped" == "0" ]]

@@ -14,10 +14,11 @@ packages=(
   libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
   liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
   libcli11-dev                                # command lines (CLI11)
-  libgtest-dev nlohmann-json3-dev zlib1g-dev  # tests, igms-dyn's JSON, compressed logs
+  libgtest-dev nlohmann-json3-dev zlib1g-dev  # tests, JSON output, compressed logs
+  libjchart2d-java                            # lcm-spy's charts (scripts/lcm_spy.sh; NoClassDefFoundError without)
   iproute2 util-linux                         # ip, unshare: private network namespace for LCM
   python3 python3-yaml python3-matplotlib     # model generators, plots
-  python3-pip                                 # example-robot-data from PyPI (scripts/fetch_robots.sh)
+  python3-pip python3-venv python3-numpy      # PyPI: example-robot-data (fetch_robots.sh), lcm (python_env.sh)
   libwebsocketpp-dev libboost-dev libjs-three # browser view: HTTP/WebSocket server, three.js in the page
   chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)
   fonts-dejavu-core socat                     # the page's text; scripts/live.sh's bridge out of the netns
@@ -36,6 +37,8 @@ fi
 
 # Real robot models (Panda, UR5, ...) for the mesh tests and scenes; without PyPI those tests skip.
 scripts/fetch_robots.sh || echo "setup: example-robot-data not fetched; the tests that need it will skip" >&2
+# Python's LCM binding (PyPI only) in .venv: igmslog.py and the Python tests.
+scripts/python_env.sh >/dev/null || echo "setup: .venv without lcm; the Python log tests will fail" >&2
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
   cat build.configure.log

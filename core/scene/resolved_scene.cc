@@ -20,7 +20,8 @@ ResolvedScene resolveScene(const Scene& scene) {
   ResolvedScene r;
   r.scene = scene;
   {
-    Model loaded = loadModel(scene.model_path, scene.build);
+    Model loaded = scene.model_text.empty() ? loadModel(scene.model_path, scene.build)
+                                            : parseModel(scene.model_text, scene.model_path, scene.build);
     for (const LinkCollision& lc : scene.collision) {
       const int f = loaded.frameIndex(lc.link);
       if (f < 0) throw SceneError(scene.source + ": robot.collision." + lc.link + ": no such link in " + scene.model_path);
@@ -64,6 +65,14 @@ ResolvedScene resolveScene(const Scene& scene) {
   }
   if (m.floating_base && scene.trajectory.kind != TrajectorySpec::Kind::None)
     throw SceneError(scene.source + ": trajectory: a floating-base robot has no joint-space trajectory to follow");
+  const std::vector<std::string>& columns = scene.trajectory.joint_names;
+  if (!columns.empty() && columns != m.joint_name) {
+    std::string want, got;
+    for (const auto& n : m.joint_name) want += (want.empty() ? "" : ", ") + n;
+    for (const auto& n : columns) got += (got.empty() ? "" : ", ") + n;
+    throw SceneError(scene.trajectory.file + ": joints [" + got + "] are not the model's [" + want + "] (" +
+                     scene.model_path + ")");
+  }
   return r;
 }
 

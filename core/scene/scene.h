@@ -27,6 +27,7 @@
 // (resolved_scene.h).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,9 @@ struct TrajectorySpec {
   std::string frame;               // cartesian line
   Vector3 target = Vector3::Zero();
   double duration = 0.0;
+  std::vector<std::string> joint_names;  // a file's joints (the columns of q), checked against the model
+  std::string file;                // kind: file, resolved; its content below (a log carries both)
+  std::string file_text;
 };
 
 struct PushParams {
@@ -88,6 +92,7 @@ struct Scene {
   std::string source;          // the scene file
   std::string text;            // its content (logged so a replay can rebuild the run)
   std::string model_path;      // resolved
+  std::string model_text;      // non-empty: the model file's content (a log's copy), parsed instead of reading model_path
   BuildOptions build;          // floating base, gravity
   VectorX q0, v0;              // empty: neutral, at rest
   std::vector<Obstacle> obstacles;
@@ -111,6 +116,9 @@ struct Scene {
 };
 
 Scene loadScene(const std::string& path);
-Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir);
+// `files` (resolved path -> content) stands in for the disk where a scene reads another
+// file (trajectory.file): a log carries the content, the path may not exist here.
+Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir,
+                 const std::map<std::string, std::string>* files = nullptr);
 
 }  // namespace igms

@@ -113,7 +113,8 @@ std::string join(const std::string& dir, const std::string& path) {
 
 }  // namespace
 
-Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir) {
+Scene parseScene(const std::string& yaml, const std::string& source, const std::string& base_dir,
+                 const std::map<std::string, std::string>* files) {
   Reader r{source};
   YAML::Node root;
   try {
@@ -191,14 +192,30 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       std::string where = source;
       if (kind == "file") {
         where = join(base_dir, r.text(t, "file", ""));
+        const auto given = files ? files->find(where) : std::map<std::string, std::string>::const_iterator{};
+        if (files && given != files->end()) {
+          s.trajectory.file_text = given->second;
+        } else {
+          std::ifstream in(where);
+          if (!in) r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + where + "'");
+          std::stringstream content;
+          content << in.rdbuf();
+          s.trajectory.file_text = content.str();
+        }
+        s.trajectory.file = where;
         try {
-          file_doc = YAML::LoadFile(where);
+          file_doc = YAML::Load(s.trajectory.file_text);
         } catch (const YAML::Exception& e) {
           r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + where + "': " + e.msg);
         }
       }
       // Bound once: yaml-cpp's operator= on a node writes through it instead of rebinding.
       const YAML::Node points = kind == "file" ? file_doc["waypoints"] : t["waypoints"];
+      if (kind == "file" && file_doc["joints"]) {
+        const YAML::Node names = file_doc["joints"];
+        if (!names.IsSequence()) r.fail(names, "trajectory.file: joints", "must be a list of joint names in " + where);
+        for (const auto& n : names) s.trajectory.joint_names.push_back(n.as<std::string>());
+      }
       if (!points || !points.IsSequence() || points.size() < 2)
         r.fail(t, "trajectory.waypoints", "needs a list of two or more {t, q} in " + where);
       for (const auto& p : points) {

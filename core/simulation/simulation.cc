@@ -11,6 +11,7 @@
 #include "core/dynamics/rnea.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
+#include "core/scene/trajectory_file.h"
 #include "core/trajectory/cartesian_line.h"
 
 namespace igms {
@@ -255,23 +256,20 @@ const std::vector<SE3>& Simulation::linkPoses() {
 }
 
 void Simulation::saveEditedTrajectory(const std::string& path) const {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
-  out << "# Edited trajectory from scene " << scene_.source << ", " << edited_count_ << " samples.\n"
-      << "# Load it as a scene's nominal trajectory: trajectory: {kind: file, file: THIS_FILE}\n"
-      << "waypoints:\n";
-  out << std::setprecision(17);
-  int written = 0;
+  std::vector<double> times;
+  std::vector<VectorX> rows;
   double last_t = -1.0;
   for (int k = 0; k < edited_count_; ++k) {
     if (edited_t_[static_cast<size_t>(k)] <= last_t + 1e-9) continue;  // a spline needs increasing times
     last_t = edited_t_[static_cast<size_t>(k)];
-    out << "  - {t: " << last_t << ", q: [";
-    for (int j = 0; j < model_->nq; ++j) out << (j ? ", " : "") << edited_q_(k, j);
-    out << "]}\n";
-    ++written;
+    times.push_back(last_t);
+    rows.push_back(edited_q_.row(k).transpose());
   }
-  if (written < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
+  if (times.size() < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
+  out << trajectoryFileText(scene_.source, model_->joint_name, times, rows);
+  if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
 }
 
 std::vector<std::string> Simulation::activeComponents() const {

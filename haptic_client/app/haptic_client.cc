@@ -47,22 +47,29 @@ void printSummary(const ServoStats& s, double wall) {
   std::fprintf(stderr,
                "igms-haptic: %lld cycles in %.2f s (%.1f Hz), %lld deadline misses (max %lld in a row), %lld "
                "fallbacks, %lld late replies, max force step %.3f N (%lld cycles cut to the bound)\n"
-               "igms-haptic: state age p50 %.2f ms, p99 %.2f ms, max %.2f ms; lowest energy balance %.4f J, "
+               "igms-haptic: state age p50 %s ms, p99 %s ms, max %.2f ms; lowest energy balance %.4f J, "
                "passivity controller acted in %lld cycles, took out %.4f J\n"
                "igms-haptic: %lld cycles started over a period late (caught up), %lld periods skipped\n"
-               "igms-haptic: round trip p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us (%lld replies); "
-               "cycle jitter p50 %.0f us, p99 %.0f us, max %.0f us\n",
+               "igms-haptic: round trip p50 %s us, p99 %s us, p99.9 %s us, max %.0f us (%lld replies); "
+               "cycle jitter p50 %s us, p99 %s us, max %.0f us\n",
                cycles, wall, static_cast<double>(cycles) / wall, static_cast<long long>(s.misses.load()),
                static_cast<long long>(s.max_consecutive.load()), static_cast<long long>(s.fallbacks.load()),
                static_cast<long long>(s.late.load()), s.max_force_step.load(),
-               static_cast<long long>(s.slew_limited.load()), s.age_all.percentile(0.5) * 1e-3,
-               s.age_all.percentile(0.99) * 1e-3, s.age_all.max() * 1e-3,
-               s.passivity_min_energy.load(), static_cast<long long>(s.passivity_acted.load()),
-               s.passivity_dissipated.load(), static_cast<long long>(s.late_cycles.load()),
-               static_cast<long long>(s.skipped_periods.load()), s.rtt_all.percentile(0.5),
-               s.rtt_all.percentile(0.99), s.rtt_all.percentile(0.999), s.rtt_all.max(),
-               static_cast<long long>(s.rtt_all.count()), s.jitter_all.percentile(0.5), s.jitter_all.percentile(0.99),
-               s.jitter_all.max());
+               static_cast<long long>(s.slew_limited.load()), quantileText(s.age_all, 0.5, 1e-3, 2).c_str(),
+               quantileText(s.age_all, 0.99, 1e-3, 2).c_str(), s.age_all.max() * 1e-3, s.passivity_min_energy.load(),
+               static_cast<long long>(s.passivity_acted.load()), s.passivity_dissipated.load(),
+               static_cast<long long>(s.late_cycles.load()), static_cast<long long>(s.skipped_periods.load()),
+               quantileText(s.rtt_all, 0.5).c_str(), quantileText(s.rtt_all, 0.99).c_str(),
+               quantileText(s.rtt_all, 0.999).c_str(), s.rtt_all.max(), static_cast<long long>(s.rtt_all.count()),
+               quantileText(s.jitter_all, 0.5).c_str(), quantileText(s.jitter_all, 0.99).c_str(), s.jitter_all.max());
+  const int64_t over = s.rtt_all.overflow() + s.jitter_all.overflow() + s.age_all.overflow();
+  if (over)
+    std::fprintf(stderr,
+                 "igms-haptic: beyond the histograms' range: %lld round trips over %.0f ms, %lld cycle jitters over "
+                 "%.0f ms, %lld state ages over %.0f ms (counted, their maxima exact)\n",
+                 static_cast<long long>(s.rtt_all.overflow()), s.rtt_all.limit() * 1e-3,
+                 static_cast<long long>(s.jitter_all.overflow()), s.jitter_all.limit() * 1e-3,
+                 static_cast<long long>(s.age_all.overflow()), s.age_all.limit() * 1e-3);
 }
 
 }  // namespace

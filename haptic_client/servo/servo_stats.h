@@ -6,7 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <string>
 #include <vector>
 
 namespace igms {
@@ -40,32 +44,49 @@ class SampleRing {
 
 // Whole-run distribution of a time in microseconds: 20 000 bins of bin_us
 // (1 us: up to 20 ms), preallocated, filled by the servo loop, read at the end.
+// What lands beyond the last bin is counted as overflow, never as the last
+// bin's value: a quantile there is +infinity, and the maximum is kept exactly.
 class Histogram {
  public:
   explicit Histogram(double bin_us = 1.0) : bin_us_(bin_us) {}
   void add(double us) {
-    ++bins_[static_cast<size_t>(std::clamp(us / bin_us_, 0.0, static_cast<double>(bins_.size() - 1)))];
+    max_ = std::max(max_, us);
     ++n_;
+    if (!(us < limit())) {
+      ++overflow_;
+      return;
+    }
+    ++bins_[static_cast<size_t>(std::max(0.0, us / bin_us_))];
   }
+  // The p-quantile (bin floor), +infinity when it lies in the overflow.
   double percentile(double p) const {
     const auto want = static_cast<int64_t>(p * static_cast<double>(n_));
     int64_t seen = 0;
     for (size_t b = 0; b < bins_.size(); ++b)
       if ((seen += bins_[b]) > want) return static_cast<double>(b) * bin_us_;
-    return static_cast<double>(bins_.size() - 1) * bin_us_;
+    return n_ ? std::numeric_limits<double>::infinity() : 0.0;
   }
-  double max() const {
-    for (size_t b = bins_.size(); b-- > 0;)
-      if (bins_[b]) return static_cast<double>(b) * bin_us_;
-    return 0.0;
-  }
+  double max() const { return max_; }  // exact, also beyond the bins
   int64_t count() const { return n_; }
+  int64_t overflow() const { return overflow_; }
+  double limit() const { return static_cast<double>(bins_.size()) * bin_us_; }
 
  private:
   double bin_us_;
   std::array<int64_t, 20000> bins_{};
-  int64_t n_ = 0;
+  int64_t n_ = 0, overflow_ = 0;
+  double max_ = 0.0;
 };
+
+// "123" (scaled by `scale`, `decimals` places), or "> 20000" when the value
+// is beyond the histogram's range.
+inline std::string quantileText(const Histogram& h, double p, double scale = 1.0, int decimals = 0) {
+  const double v = h.percentile(p);
+  char out[48];
+  if (std::isinf(v)) std::snprintf(out, sizeof out, "> %.*f", decimals, h.limit() * scale);
+  else std::snprintf(out, sizeof out, "%.*f", decimals, v * scale);
+  return out;
+}
 
 struct ServoStats {
   std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0}, slew_limited{0},

@@ -4,28 +4,18 @@
 #include <cstdio>
 
 #include "channels.h"
-#include "core/model_io/model_loader.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/udp_drops.h"
 #include "igms/server_status_t.hpp"
 #include "igms_build_info.h"
+#include "server/app/session_description.h"
 
 namespace igms {
 
 StatusReporter::StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
                                LoopStatus& loop, bool quiet)
     : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), scene_(sim.scene().source) {
-  info_.build_version = IGMS_BUILD_VERSION;
-  info_.scene_path = sim.scene().source;
-  info_.scene_text = sim.scene().text;
-  info_.model_path = sim.scene().model_path;
-  try {
-    info_.model_hash = textHash(readModelFile(sim.scene().model_path));
-  } catch (const std::exception&) {
-    info_.model_hash = "unreadable";
-  }
-  info_.clock = clock;
-  info_.dt = sim.scene().dt;
+  info_ = describeSession(sim, clock);
   for (const auto& f : sim.model().frames) link_names_.push_back(f.name);
   components_ = sim.activeComponents();
   window_start_ = monotonicSeconds();

@@ -34,7 +34,7 @@ std::vector<uint8_t> payload(int k, int size) {
 }
 
 void publishSessionInfo(lcm::LCM& bus) {
-  session_info_t s;
+  session_info_t s{};
   s.scene_path = "scenes/test.yaml";
   s.scene_text = "name: test";
   bus.publish(channels::kSessionInfo, &s);

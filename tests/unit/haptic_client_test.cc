@@ -3,11 +3,13 @@
 // start-up guard, the server-lost ramp, the resync blend, the scripted device.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/servo_stats.h"
 #include "haptic_client/servo/state_estimate.h"
 
 namespace igms {
@@ -181,3 +183,19 @@ TEST(ScriptedDevice, ARepeatedLinkWaypointHoldsWhereTheOneBeforeIt) {
 
 }  // namespace
 }  // namespace igms
+
+TEST(Histogram, ReportsOverflowAsOverflowNotAsTheLastBin) {
+  igms::Histogram h(10.0);  // 10 us bins: 200 ms
+  for (int i = 0; i < 98; ++i) h.add(100.0);
+  h.add(250'000.0);  // 250 ms: beyond the range
+  h.add(1'000'000.0);
+  EXPECT_EQ(h.count(), 100);
+  EXPECT_EQ(h.overflow(), 2);
+  EXPECT_DOUBLE_EQ(h.percentile(0.5), 100.0);
+  EXPECT_TRUE(std::isinf(h.percentile(0.99)));  // the 99th of 100 samples lies in the overflow
+  EXPECT_DOUBLE_EQ(h.max(), 1'000'000.0);       // exact, not 199 990 us
+  EXPECT_EQ(igms::quantileText(h, 0.99, 1e-3), "> 200");
+  EXPECT_EQ(igms::quantileText(h, 0.5), "100");
+  igms::Histogram empty;
+  EXPECT_EQ(empty.percentile(0.5), 0.0);
+}

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <map>
 
 #include "core/interaction/push.h"
 #include "core/kinematics/forward_kinematics.h"
@@ -337,6 +339,34 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   Simulation again(replay);
   run(again, 1.0);
   EXPECT_LE((again.q() - sim.q()).norm(), 5e-3);
+  // The file names its columns: the model's joints, in order.
+  EXPECT_EQ(replay.trajectory.joint_names, sim.model().joint_name);
+  EXPECT_EQ(replay.trajectory.file, path);
+  EXPECT_NE(replay.trajectory.file_text.find("joints: [joint1"), std::string::npos) << replay.trajectory.file_text;
+  // Doubles survive the emitter bit for bit.
+  EXPECT_EQ(replay.trajectory.waypoints.front(), VectorX(sim.editedPoint(0)));
+  std::remove(path.c_str());
+}
+
+TEST(Simulation, ATrajectoryFileForOtherJointsIsRefusedNamingBoth) {
+  const std::string path = ::testing::TempDir() + "/other_joints.yaml";
+  std::ofstream(path) << "joints: [a, b, c, d, e, f]\nwaypoints:\n  - {t: 0, q: [0, 0, 0, 0, 0, 0]}\n"
+                         "  - {t: 1, q: [0, 0, 0, 0, 0, 0]}\n";
+  Scene s = scene("puma_wall.yaml");
+  s.trajectory = parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").trajectory;
+  try {
+    Simulation sim(s);
+    FAIL() << "accepted a trajectory for other joints";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("joints [a, b, c, d, e, f] are not the model's [joint1"), std::string::npos)
+        << e.what();
+  }
+  // A scene whose file is given as content (a log's copy) does not touch the disk.
+  const std::map<std::string, std::string> files = {{"/nowhere/t.yaml", "waypoints:\n  - {t: 0, q: [1]}\n  - {t: 1, q: [2]}\n"}};
+  const Scene from_log =
+      parseScene("robot: {model: x}\ntrajectory: {kind: file, file: /nowhere/t.yaml}\n", "t.yaml", "", &files);
+  ASSERT_EQ(from_log.trajectory.waypoints.size(), 2u);
+  EXPECT_EQ(from_log.trajectory.waypoints[1][0], 2.0);
   std::remove(path.c_str());
 }
 

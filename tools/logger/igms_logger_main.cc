@@ -19,6 +19,7 @@
 #include <deque>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <mutex>
 #include <regex>
 #include <string>
@@ -39,6 +40,8 @@ struct Options {
   bool increment = false, timestamp = false, invert = false, quiet = false, verbose = false;
   std::string channel_regex = ".*";
   double split_mb = 0, split_s = 0, duration = 0, wait_session_s = 2.0, flush_ms = 100, slow_disk_us = 0;
+  double silence_s = 3.0;    // say so when nothing has been heard for this long
+  bool allow_empty = false;  // an empty log is an error unless asked for
   int rotate = 0;
   size_t queue = 20000;
   std::string lcm_url, stats_file;
@@ -154,22 +157,26 @@ class Logger {
     writer_->flush();
   }
 
+  int64_t receivedTotal() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int64_t n = 0;
+    for (const auto& [c, k] : received_) n += k;
+    return n;
+  }
+
   void report(std::FILE* out, bool json) {
     std::lock_guard<std::mutex> lock(mutex_);
     int64_t received = 0, dropped = 0;
     for (const auto& [c, n] : received_) received += n;
     for (const auto& [c, n] : dropped_) dropped += n;
     if (json) {
-      std::fprintf(out, "{\"received\": %lld, \"written\": %lld, \"dropped\": %lld, \"files\": [",
-                   static_cast<long long>(received), static_cast<long long>(written_), static_cast<long long>(dropped));
-      for (size_t i = 0; i < files_.size(); ++i) std::fprintf(out, "%s\"%s\"", i ? ", " : "", files_[i].c_str());
-      std::fprintf(out, "], \"dropped_by_channel\": {");
-      bool first = true;
-      for (const auto& [c, n] : dropped_) {
-        std::fprintf(out, "%s\"%s\": %lld", first ? "" : ", ", c.c_str(), static_cast<long long>(n));
-        first = false;
-      }
-      std::fprintf(out, "}}\n");
+      const nlohmann::json stats = {{"received", received},
+                                    {"written", written_},
+                                    {"dropped", dropped},
+                                    {"files", files_},
+                                    {"dropped_by_channel", dropped_}};
+      // Channel names come off the bus: bytes that are not UTF-8 are replaced, never a throw.
+      std::fprintf(out, "%s\n", stats.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
       return;
     }
     std::fprintf(out, "igms-logger: %lld received, %lld written, %lld dropped (queue full) in %zu file(s)\n",
@@ -253,6 +260,9 @@ int parseOptions(int argc, char** argv, Options* o) {
   app.add_option("--stats-file", o->stats_file, "write the final counts here as JSON");
   app.add_option("--slow-disk-us", o->slow_disk_us, "(tests) sleep this long per write")
       ->check(igms::cli::nonNegative("US"));
+  app.add_option("--silence-s", o->silence_s, "say so on stderr when nothing has been heard for this long")
+      ->check(igms::cli::positive("S"));
+  app.add_flag("--allow-empty", o->allow_empty, "exit 0 even when nothing was recorded (otherwise 1)");
   app.add_flag("-q,--quiet", o->quiet, "no summary on stderr");
   app.add_flag("--verbose", o->verbose, "counts on stderr every second");
   return igms::cli::parse(app, argc, argv);
@@ -278,11 +288,26 @@ int main(int argc, char** argv) {
       g_stop = true;
     }
   });
+  const std::string url = o.lcm_url.empty() ? igms::channels::kDefaultUrl : o.lcm_url;
   const auto start = std::chrono::steady_clock::now();
-  auto last_report = start;
+  auto last_report = start, last_heard = start;
+  int64_t heard = 0;
+  bool silence_said = false;
   while (!g_stop) {
     bus.handleTimeout(50);
     const auto now = std::chrono::steady_clock::now();
+    // Loud silence: a logger in the wrong network namespace or on the wrong URL hears nothing, and says so.
+    if (const int64_t n = logger.receivedTotal(); n != heard) {
+      heard = n;
+      last_heard = now;
+      silence_said = false;
+    } else if (!silence_said && std::chrono::duration<double>(now - last_heard).count() >= o.silence_s) {
+      std::fprintf(stderr,
+                   "igms-logger: nothing heard on %s for %.0f s%s (is the server on this bus? processes started by "
+                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/bus.sh run)\n",
+                   url.c_str(), o.silence_s, heard ? " since the last message" : "");
+      silence_said = true;
+    }
     if (o.duration > 0 && std::chrono::duration<double>(now - start).count() >= o.duration) break;
     if (o.verbose && now - last_report > std::chrono::seconds(1)) {
       logger.report(stderr, false);
@@ -300,5 +325,10 @@ int main(int argc, char** argv) {
       logger.report(f, true);
       std::fclose(f);
     }
+  if (heard == 0 && logger.receivedTotal() == 0 && !o.allow_empty) {
+    std::fprintf(stderr, "igms-logger: the log is empty: nothing was heard on %s (--allow-empty to accept that)\n",
+                 url.c_str());
+    return 1;
+  }
   return 0;
 }

@@ -19,6 +19,7 @@
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <thread>
@@ -111,8 +112,14 @@ int play(const std::string& path, const PlayOptions& o) {
       bus.publish(it == remap.end() ? e.channel : it->second, e.data.data(), static_cast<unsigned>(e.data.size()));
       ++published;
     }
-  } while (loop && !igms::stopRequested());
+  } while (loop && published > 0 && !igms::stopRequested());
   std::fprintf(stderr, "igms-replay: published %lld events\n", static_cast<long long>(published));
+  if (published == 0 && !igms::stopRequested()) {
+    const std::string until = end > 1e12 ? std::string("the end") : std::to_string(end) + " s";
+    std::fprintf(stderr, "igms-replay: nothing in %s matched --channel '%s' between %.3f s and %s\n", path.c_str(),
+                 o.regex.c_str(), start, until.c_str());
+    return 1;
+  }
   return c.damaged ? 3 : 0;
 }
 
@@ -133,17 +140,26 @@ int resim(const std::string& path, const ResimOptions& o) {
     return 1;
   }
   if (json) {
-    std::printf("{\"steps\": %lld, \"identical\": %s, \"max_deviation\": %.17g, \"fields\": {",
-                static_cast<long long>(r.steps), r.identical ? "true" : "false", r.max_deviation);
-    for (size_t i = 0; i < r.deviations.size(); ++i)
-      std::printf("%s\"%s\": %.17g", i ? ", " : "", r.deviations[i].field.c_str(), r.deviations[i].max_abs);
-    std::printf("}}\n");
+    nlohmann::json out = {{"steps", r.steps},
+                          {"identical", r.identical},
+                          {"max_deviation", r.max_deviation},
+                          {"model_from_log", r.model_from_log},
+                          {"mesh_differences", r.mesh_differences},
+                          {"fields", nlohmann::json::object()}};
+    for (const auto& d : r.deviations) out["fields"][d.field] = d.max_abs;
+    std::printf("%s\n", out.dump().c_str());
   } else {
     std::printf("igms-replay: re-simulated %lld steps of %s (scene %s, recorded by %s)\n",
                 static_cast<long long>(r.steps), path.c_str(), r.scene_path.c_str(), r.build_logged.c_str());
-    if (r.model_hash_logged != r.model_hash_now)
+    if (r.model_from_log)
+      std::printf("  model: the log's copy of %s%s\n", r.scene_path.empty() ? "the model" : "the scene's model",
+                  r.model_hash_now == "absent"            ? " (the file is not here)"
+                  : r.model_hash_logged != r.model_hash_now ? " (the file here has changed since)"
+                                                            : "");
+    else if (r.model_hash_logged != r.model_hash_now)
       std::printf("  note: the model file changed since the recording (hash %s, now %s)\n",
                   r.model_hash_logged.c_str(), r.model_hash_now.c_str());
+    for (const auto& m : r.mesh_differences) std::printf("  note: mesh %s\n", m.c_str());
     for (const auto& d : r.deviations)
       std::printf("  %-18s max |recorded - now| = %-12.3g at step %lld\n", d.field.c_str(), d.max_abs,
                   static_cast<long long>(d.at_seq));

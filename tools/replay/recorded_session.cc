@@ -4,6 +4,8 @@
 #include <filesystem>
 
 #include "channels.h"
+#include "core/model_io/model_fingerprint.h"
+#include "core/model_io/zlib_text.h"
 #include "safe_decode.h"
 
 namespace igms {
@@ -34,10 +36,32 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
 
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir) {
   // An absolute scene path (the server started with one) stands on its own; a relative one was relative to
-  // the server's working directory, base_dir.
-  const std::filesystem::path path(session.info.scene_path);
+  // the server's working directory, base_dir. The files the scene reads come from the log when it carries
+  // them (the model, a trajectory file), so the paths matter only for meshes and for older logs.
+  const session_info_t& info = session.info;
+  const std::filesystem::path path(info.scene_path);
   const std::filesystem::path dir = path.is_absolute() ? path.parent_path() : std::filesystem::path(base_dir) / path.parent_path();
-  return parseScene(session.info.scene_text, session.info.scene_path, dir.empty() ? "." : dir.string());
+  std::map<std::string, std::string> files;
+  if (!info.trajectory_path.empty()) files[info.trajectory_path] = info.trajectory_text;
+  Scene scene = parseScene(info.scene_text, info.scene_path, dir.empty() ? "." : dir.string(), &files);
+  if (info.model_size > 0)
+    scene.model_text = inflateText(info.model_zlib.data(), info.model_zlib.size(), static_cast<size_t>(info.model_size),
+                                   "the log's copy of " + info.model_path);
+  return scene;
+}
+
+std::vector<std::string> meshDifferences(const RecordedSession& session, const Model& model) {
+  std::map<std::string, std::string> now;
+  for (const MeshFingerprint& m : meshFingerprints(model, session.info.model_path)) now[m.uri] = m.hash;
+  std::vector<std::string> out;
+  const session_info_t& info = session.info;
+  for (size_t i = 0; i < info.mesh_uris.size() && i < info.mesh_hashes.size(); ++i) {
+    const auto it = now.find(info.mesh_uris[i]);
+    const std::string here = it == now.end() ? "missing" : it->second;
+    if (here != info.mesh_hashes[i])
+      out.push_back(info.mesh_uris[i] + ": recorded " + info.mesh_hashes[i] + ", here " + here);
+  }
+  return out;
 }
 
 }  // namespace igms

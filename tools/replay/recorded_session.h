@@ -31,6 +31,12 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events);
 // The scene of the session; base_dir resolves a relative scene path (the
 // server's working directory at record time), an absolute one needs none.
 // Throws SceneError / ModelError.
+// The model and a trajectory file are the log's copies when it carries them
+// (every log since session_info_t had them), else read from the disk.
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir);
+
+// The meshes the model names whose files here differ from the recording's
+// ("URI: recorded H, here H'"; "missing" when a file does not resolve).
+std::vector<std::string> meshDifferences(const RecordedSession& session, const Model& model);
 
 }  // namespace igms

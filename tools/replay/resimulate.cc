@@ -42,7 +42,14 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   std::unique_ptr<Simulation> sim;
   try {
     sim = std::make_unique<Simulation>(recordedScene(session, base_dir));
-    out.model_hash_now = textHash(readModelFile(sim->scene().model_path));
+    out.model_from_log = !sim->scene().model_text.empty();
+    try {
+      out.model_hash_now = textHash(readModelFile(sim->scene().model_path));
+    } catch (const std::exception&) {
+      if (!out.model_from_log) throw;
+      out.model_hash_now = "absent";  // the log's copy stands in
+    }
+    out.mesh_differences = meshDifferences(session, sim->model());
   } catch (const std::exception& e) {
     out.error = std::string("cannot rebuild the scene: ") + e.what();
     return out;

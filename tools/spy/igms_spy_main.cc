@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <mutex>
 #include <regex>
 #include <string>
@@ -148,7 +149,7 @@ class Spy {
   void print(double window, bool json, std::FILE* out) {
     std::lock_guard<std::mutex> lock(mutex_);
     const double t = now();
-    if (json) std::fprintf(out, "{");
+    nlohmann::json snapshot = nlohmann::json::object();
     bool first = true;
     for (auto& [name, c] : channels_) {
       // Keep only the window's arrivals.
@@ -172,11 +173,9 @@ class Spy {
         jitter = 1e3 * gaps[static_cast<size_t>(0.99 * static_cast<double>(gaps.size() - 1))];
       }
       if (json) {
-        std::fprintf(out,
-                     "%s\"%s\": {\"count\": %lld, \"rate_hz\": %.3f, \"jitter_ms\": %.3f, \"bytes_per_s\": %.1f, "
-                     "\"seq_gaps\": %lld, \"undecodable\": %lld, \"type\": \"%s\"}",
-                     first ? "" : ", ", name.c_str(), static_cast<long long>(c.count), rate, jitter, bw,
-                     static_cast<long long>(c.seq_gaps), static_cast<long long>(c.undecodable), c.type.c_str());
+        snapshot[name] = {{"count", c.count},       {"rate_hz", rate},       {"jitter_ms", jitter},
+                          {"bytes_per_s", bw},      {"seq_gaps", c.seq_gaps}, {"undecodable", c.undecodable},
+                          {"type", c.type}};
       } else {
         if (first)
           std::fprintf(out, "%-24s %9s %9s %9s %10s %6s %6s  %s\n", "channel", "count", "rate Hz", "jitter ms",
@@ -188,8 +187,17 @@ class Spy {
       }
       first = false;
     }
-    if (json) std::fprintf(out, "}\n");
+    // Channel names come off the bus: bytes that are not UTF-8 are replaced, never a throw.
+    if (json) std::fprintf(out, "%s\n", snapshot.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
     if (first && !json) std::fprintf(out, "(no messages yet)\n");
+  }
+
+  // Messages heard on the channels the filter keeps, since start.
+  int64_t heard() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int64_t n = 0;
+    for (const auto& [name, c] : channels_) n += c.count;
+    return n;
   }
 
  private:
@@ -225,17 +233,33 @@ int main(int argc, char** argv) {
   bus.subscribe(".*", &Spy::onMessage, &spy)->setQueueCapacity(100000);
   const double start = now();
   double next_draw = start + 0.5;
+  const std::string where = url.empty() ? igms::channels::kDefaultUrl : url;
+  // Loud silence: a spy in the wrong network namespace or on the wrong URL hears nothing, and says so.
+  const std::string silence = "nothing heard on " + where +
+                              " (is the server on this bus? processes started by separate scripts/netns_run.sh calls "
+                              "do not hear each other: use scripts/bus.sh run)";
+  int64_t heard = 0;
+  double last_heard = start;
   while (!g_stop) {
     bus.handleTimeout(20);
     const double t = now();
+    if (const int64_t n = spy.heard(); n != heard) {
+      heard = n;
+      last_heard = t;
+    }
     if (once && t - start >= window) {
       spy.print(window, json, stdout);
+      if (heard == 0) {
+        std::fprintf(stderr, "igms-spy: %s in %.1f s\n", silence.c_str(), window);
+        return 1;
+      }
       return 0;
     }
     if (!once && t >= next_draw) {
       std::printf("\033[H\033[2J");  // refresh in place
-      std::printf("igms-spy on %s (window %.1f s; Ctrl-C quits)\n\n", url.empty() ? igms::channels::kDefaultUrl : url.c_str(), window);
+      std::printf("igms-spy on %s (window %.1f s; Ctrl-C quits)\n\n", where.c_str(), window);
       spy.print(window, json, stdout);
+      if (t - last_heard >= 3.0) std::printf("\n%s for %.0f s\n", silence.c_str(), t - last_heard);
       std::fflush(stdout);
       next_draw = t + 0.5;
     }

@@ -90,7 +90,27 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "igms-viewer: %s; open the URL above in a browser\n",
                player ? ("playing " + log_path).c_str() : ("watching " + url).c_str());
   const std::atomic<bool>& stop = igms::stopOnSignals();
-  while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  // Loud silence: a live viewer that hears no robot state for 3 s says so (once per silence) on stderr,
+  // as the page's banner does.
+  auto last_heard = std::chrono::steady_clock::now();
+  int64_t states = 0;
+  bool silence_said = false;
+  while (!stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (player) continue;
+    const auto now = std::chrono::steady_clock::now();
+    if (const int64_t n = view.bus().states(); n != states) {
+      states = n;
+      last_heard = now;
+      silence_said = false;
+    } else if (!silence_said && now - last_heard >= std::chrono::seconds(3)) {
+      std::fprintf(stderr,
+                   "igms-viewer: no robot state on %s for 3 s%s (is the server on this bus? processes started by "
+                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/bus.sh run)\n",
+                   url.c_str(), states ? " since the last one" : "");
+      silence_said = true;
+    }
+  }
   view.stop();
   const auto& c = view.server().counters();
   std::fprintf(stderr,

@@ -1,0 +1,127 @@
+"""Read an igms session log into numpy arrays.
+
+    import igmslog
+    log = igmslog.read("session.lcmlog")      # also .lcmlog.gz
+    log.info.scene_path, log.info.clock       # session_info_t (the first one)
+    log.states["t"], log.states["q"]          # (N,) simulated time, (N, nq)
+    log.inputs["tip_position"]                # (M, 3) haptic inputs, by arrival
+    log.client_status[-1].rate_hz             # the decoded status messages, in order
+    log.counts, log.undecodable               # events per channel; messages that did not decode
+
+Needs the `lcm` module (PyPI: scripts/python_env.sh puts it in the project's
+.venv) and the generated message types (build/python, or the installed igms
+package). A .gz log is inflated to a temporary file first: LCM's EventLog reads
+plain files only (`zcat X.lcmlog.gz > X.lcmlog` does the same by hand).
+"""
+import collections
+import gzip
+import os
+import shutil
+import tempfile
+
+import lcm
+import numpy as np
+
+from igms import (client_status_t, haptic_input_t, robot_state_t, server_status_t,
+                  session_info_t)
+
+STATE_CHANNELS = ("IGMS_ROBOT_STATE", "IGMS_ROBOT_STATE_TRUTH")
+TYPES = {
+    "IGMS_SESSION_INFO": session_info_t,
+    "IGMS_ROBOT_STATE": robot_state_t,
+    "IGMS_ROBOT_STATE_TRUTH": robot_state_t,
+    "IGMS_HAPTIC_INPUT": haptic_input_t,
+    "IGMS_SERVER_STATUS": server_status_t,
+    "IGMS_CLIENT_STATUS": client_status_t,
+}
+
+
+class SessionLog:
+    def __init__(self):
+        self.info = None
+        self.counts = collections.Counter()
+        self.undecodable = collections.Counter()
+        self.server_status = []
+        self.client_status = []
+        self.states = {}
+        self.inputs = {}
+
+
+def events(path):
+    """(channel, timestamp_us, data) of every event, in file order."""
+    plain, tmp = path, None
+    if path.endswith(".gz"):
+        fd, tmp = tempfile.mkstemp(suffix=".lcmlog")
+        with os.fdopen(fd, "wb") as out, gzip.open(path, "rb") as src:
+            shutil.copyfileobj(src, out)
+        plain = tmp
+    try:
+        log = lcm.EventLog(plain, "r")
+        for e in log:
+            yield e.channel, e.timestamp, e.data
+        log.close()
+    finally:
+        if tmp:
+            os.unlink(tmp)
+
+
+def _decode(kind, data):
+    try:
+        return kind.decode(data)
+    except Exception:  # a damaged message or another version's type: counted, never fatal
+        return None
+
+
+def read(path):
+    """The session in `path` as a SessionLog."""
+    out = SessionLog()
+    raw = collections.defaultdict(list)
+    for channel, _, data in events(path):
+        out.counts[channel] += 1
+        kind = TYPES.get(channel)
+        if kind is None:
+            continue
+        m = _decode(kind, data)
+        if m is None:
+            out.undecodable[channel] += 1
+        else:
+            raw[channel].append(m)
+    if raw["IGMS_SESSION_INFO"]:
+        out.info = raw["IGMS_SESSION_INFO"][0]
+    out.server_status = raw["IGMS_SERVER_STATUS"]
+    out.client_status = raw["IGMS_CLIENT_STATUS"]
+    # The truth channel holds every step in a fault-injected session.
+    states = raw["IGMS_ROBOT_STATE_TRUTH"] or raw["IGMS_ROBOT_STATE"]
+    states = sorted(states, key=lambda s: s.seq)
+    if states:
+        out.states = {
+            "seq": np.array([s.seq for s in states]),
+            "t": np.array([s.sim_time for s in states]),
+            "q": np.array([s.q for s in states]),
+            "v": np.array([s.v for s in states]),
+            "qdd": np.array([s.qdd for s in states]),
+            "tau": np.array([s.tau for s in states]),
+            "mode": np.array([s.mode for s in states]),
+            "interaction_force": np.array([s.interaction_force for s in states]),
+            "in_collision": np.array([s.in_collision for s in states]),
+            "min_obstacle_distance": np.array([s.min_obstacle_distance for s in states]),
+            "link_positions": np.array([[p[:3] for p in s.link_poses] for s in states]),
+            "step_us": np.array([s.step_us for s in states]),
+        }
+    inputs = raw["IGMS_HAPTIC_INPUT"]
+    if inputs:
+        out.inputs = {
+            "seq": np.array([m.seq for m in inputs]),
+            "mode": np.array([m.mode for m in inputs]),
+            "client_id": np.array([m.client_id for m in inputs]),
+            "tip_position": np.array([m.tip_position for m in inputs]),
+        }
+    return out
+
+
+def link_names(log):
+    """The link order of link_poses (from the server status)."""
+    for s in log.server_status:
+        if s.link_names:
+            return list(s.link_names)
+    return []
