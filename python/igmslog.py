@@ -72,6 +72,11 @@ def _decode(kind, data):
         return None
 
 
+def _columns(messages, fields):
+    """{field: array over the messages} for each field."""
+    return {f: np.array([getattr(m, f) for m in messages]) for f in fields}
+
+
 def read(path):
     """The session in `path` as a SessionLog."""
     out = SessionLog()
@@ -94,28 +99,13 @@ def read(path):
     states = raw["IGMS_ROBOT_STATE_TRUTH"] or raw["IGMS_ROBOT_STATE"]
     states = sorted(states, key=lambda s: s.seq)
     if states:
-        out.states = {
-            "seq": np.array([s.seq for s in states]),
-            "t": np.array([s.sim_time for s in states]),
-            "q": np.array([s.q for s in states]),
-            "v": np.array([s.v for s in states]),
-            "qdd": np.array([s.qdd for s in states]),
-            "tau": np.array([s.tau for s in states]),
-            "mode": np.array([s.mode for s in states]),
-            "interaction_force": np.array([s.interaction_force for s in states]),
-            "in_collision": np.array([s.in_collision for s in states]),
-            "min_obstacle_distance": np.array([s.min_obstacle_distance for s in states]),
-            "link_positions": np.array([[p[:3] for p in s.link_poses] for s in states]),
-            "step_us": np.array([s.step_us for s in states]),
-        }
+        out.states = _columns(states, ("seq", "sim_time", "q", "v", "qdd", "tau", "mode", "interaction_force",
+                                       "in_collision", "min_obstacle_distance", "step_us"))
+        out.states["t"] = out.states["sim_time"]
+        out.states["link_positions"] = np.array([[p[:3] for p in s.link_poses] for s in states])
     inputs = raw["IGMS_HAPTIC_INPUT"]
     if inputs:
-        out.inputs = {
-            "seq": np.array([m.seq for m in inputs]),
-            "mode": np.array([m.mode for m in inputs]),
-            "client_id": np.array([m.client_id for m in inputs]),
-            "tip_position": np.array([m.tip_position for m in inputs]),
-        }
+        out.inputs = _columns(inputs, ("seq", "utime", "mode", "client_id", "tip_position"))
     return out
 
 
