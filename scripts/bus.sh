@@ -21,11 +21,17 @@ sudo=""
 exists() { [[ -e /run/netns/$name ]]; }
 up() {
   exists && return 0
-  $sudo ip netns add "$name"
-  $sudo ip -n "$name" link set lo up
-  $sudo ip -n "$name" link set lo multicast on
-  $sudo ip -n "$name" route add 224.0.0.0/4 dev lo
-  echo "bus.sh: private bus '$name' is up (scripts/bus.sh run CMD joins it; scripts/bus.sh down removes it)" >&2
+  # Two first calls at once: one makes it, the other waits and finds it (the lock ends with the subshell,
+  # so no command started later inherits it).
+  (
+    flock 9
+    exists && exit 0
+    $sudo ip netns add "$name"
+    $sudo ip -n "$name" link set lo up
+    $sudo ip -n "$name" link set lo multicast on
+    $sudo ip -n "$name" route add 224.0.0.0/4 dev lo
+    echo "bus.sh: private bus '$name' is up (scripts/bus.sh run CMD joins it; scripts/bus.sh down removes it)" >&2
+  ) 9>"${TMPDIR:-/tmp}/igms-bus-$name.lock"
 }
 
 case "${1:-}" in
