@@ -6,7 +6,8 @@
 #  - lcm-logplayer plays the push log to Debian's lcm-logger, which records
 #    every event (private network namespace);
 #  - a log copied to an empty folder elsewhere re-simulates bit for bit
-#    (igms-replay resim) and on ODE (igms-ode-ref log), with no repository.
+#    (igms-replay resim) and on ODE (igms-ode-ref log), and its export holds
+#    the model, with no repository.
 #   tests/integration/log_portability_test.sh BUILD_DIR PORT
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
@@ -49,6 +50,11 @@ cp "$src/tests/replay/data/paper_push.lcmlog.gz" "$tmp/elsewhere/"
 cd "$tmp/elsewhere"
 "$build/tools/igms-replay" resim paper_push.lcmlog.gz --require-identical | tee "$tmp/resim.txt"
 grep -q "model: the log's copy" "$tmp/resim.txt"
+# An export carries the model too: the same bytes as the repository's.
+"$build/tools/igms-replay" export paper_push.lcmlog.gz out >/dev/null
+cmp out/puma560.urdf "$src/models/puma560.urdf" || fail_export=1
+[[ -z ${fail_export:-} ]] || { echo "log_portability_test: the exported model differs" >&2; exit 1; }
+grep -q "model_file: puma560.urdf" out/session.txt
 if [[ -x $build/tools/igms-ode-ref ]]; then
   "$build/tools/igms-ode-ref" log paper_push.lcmlog.gz --json > "$tmp/ode.json"
   "$python" -c "import json,sys; j=json.load(open(sys.argv[1])); print('ODE replay from the log alone:', {k: j[k] for k in list(j)[:4]})" "$tmp/ode.json"

@@ -27,6 +27,7 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/model_io/zlib_text.h"
 #include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
 #include "igms/haptic_input_t.hpp"
@@ -209,9 +210,21 @@ int exportCsv(const std::string& path, const std::string& dir) {
       igms::session_info_t s;
       if (igms::safeDecode(d, n, &s)) {
         std::ofstream(dir + "/scene.yaml") << s.scene_text;
+        // The log's copy of the model, next to the scene: an export stands on its own too.
+        std::string model_file;
+        if (s.model_size > 0) {
+          try {
+            const std::string text = igms::inflateText(s.model_zlib.data(), s.model_zlib.size(),
+                                                       static_cast<size_t>(s.model_size), "the log's model");
+            model_file = std::filesystem::path(s.model_path).filename().string();
+            std::ofstream(dir + "/" + model_file) << text;
+          } catch (const std::exception& e) {
+            std::fprintf(stderr, "igms-replay: %s\n", e.what());
+          }
+        }
         std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
-                                            << "\nmodel_hash: " << s.model_hash << "\nbuild: " << s.build_version
-                                            << "\nclock: " << s.clock << "\n";
+                                            << "\nmodel_hash: " << s.model_hash << "\nmodel_file: " << model_file
+                                            << "\nbuild: " << s.build_version << "\nclock: " << s.clock << "\n";
       }
     } else if (e.channel == igms::channels::kServerStatus) {
       igms::server_status_t s;
