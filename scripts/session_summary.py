@@ -44,15 +44,22 @@ def main():
     target = np.array(trajectory["target"]) if trajectory.get("kind") == "cartesian_line" else None
     near = np.nonzero(np.linalg.norm(ee - target, axis=1) <= 0.01)[0] if target is not None else []
     # Interactions: stretches of push (1) or pull (2).
-    events, start = [], None
+    events, touches, start = [], [], None
     for i, m in enumerate(modes):
         if m and start is None:
             start = i
         if start is not None and (m != modes[start] or i == len(modes) - 1):
             end = i
             f = np.linalg.norm(force[start:end + 1], axis=1)
-            events.append({"mode": "push" if modes[start] == 1 else "pull", "start_s": round(t[start], 3),
-                           "end_s": round(t[end], 3), "max_force_N": round(float(f.max()), 2)})
+            event = {"mode": "push" if modes[start] == 1 else "pull", "start_s": round(t[start], 3),
+                     "end_s": round(t[end], 3), "max_force_N": round(float(f.max()), 2)}
+            # A push the client saw in its estimate that never reached the robot (under 0.05 N at every step,
+            # the client's own release threshold; seen as a 1 ms stretch at a release under load) is a touch,
+            # counted apart, not an interaction.
+            if event["mode"] == "push" and f.max() < 0.05:
+                touches.append(event)
+            else:
+                events.append(event)
             start = i if m else None
     client = last_row(os.path.join(exp, "client_status.csv"), running="rate_hz")
     if client:  # the session's rate: the median of the 10 Hz windows the loop ran (the first and last are partial)
@@ -75,6 +82,7 @@ def main():
         "reached_target_s": round(float(t[near[0]]), 3) if len(near) else None,
         "final_distance_to_target_m": round(float(np.linalg.norm(ee[-1] - target)), 4) if target is not None else None,
         "interactions": events,
+        "touches_without_force": len(touches),
         "max_force_on_robot_N": round(float(np.linalg.norm(force, axis=1).max()), 2),
         "client_rate_hz": round(float(client["rate_hz"]), 1) if client else None,
         "deadline_misses": int(client["deadline_misses"]) if client else None,
@@ -105,6 +113,9 @@ def main():
         counts[e["mode"]] = counts.get(e["mode"], 0) + 1
         lines.append(f"- {names[e['mode']]}{counts[e['mode']]}: {e['start_s']:.3f} s to {e['end_s']:.3f} s, "
                      f"largest force {e['max_force_N']} N")
+    if touches:
+        lines.append(f"- {len(touches)} touch(es) of the client's estimate that delivered no force (under 0.05 N), "
+                     f"first at {touches[0]['start_s']:.3f} s: not counted as pushes")
     if client:
         lines.append(f"- haptic client: {summary['client_rate_hz']:.1f} Hz, {summary['deadline_misses']} deadline "
                      f"misses, round trip p50 {summary['round_trip_p50_us']} us, p99 {summary['round_trip_p99_us']} us")

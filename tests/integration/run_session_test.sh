@@ -20,6 +20,7 @@ checks = [
     (s["end_effector"] == "panda_hand_tcp", "the scene's end-effector (its trajectory frame)"),
     (s["reached_target"] is True, "the hand reached the line's target"),
     ([e["mode"] for e in s["interactions"]] == ["push"], "one push"),
+    (s["touches_without_force"] <= 2, "at most two stray touches of the estimate without force"),
     (s["max_force_on_robot_N"] > 1.0, "a force on the robot"),
     (abs(s["client_rate_hz"] - 1000) < 50, "the client's rate from its logged status"),
     ("reached_wall" not in s, "no wall in this scene"),
