@@ -67,11 +67,13 @@ ResolvedScene resolveScene(const Scene& scene) {
     throw SceneError(scene.source + ": trajectory: a floating-base robot has no joint-space trajectory to follow");
   const std::vector<std::string>& columns = scene.trajectory.joint_names;
   if (!columns.empty() && columns != m.joint_name) {
-    std::string want, got;
-    for (const auto& n : m.joint_name) want += (want.empty() ? "" : ", ") + n;
-    for (const auto& n : columns) got += (got.empty() ? "" : ", ") + n;
-    throw SceneError(scene.trajectory.file + ": joints [" + got + "] are not the model's [" + want + "] (" +
-                     scene.model_path + ")");
+    auto list = [](const std::vector<std::string>& names) {
+      std::string out;
+      for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+      return out;
+    };
+    throw SceneError(scene.trajectory.file + ": joints [" + list(columns) + "] are not the model's [" +
+                     list(m.joint_name) + "] (" + scene.model_path + ")");
   }
   return r;
 }

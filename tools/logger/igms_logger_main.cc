@@ -325,7 +325,7 @@ int main(int argc, char** argv) {
       logger.report(f, true);
       std::fclose(f);
     }
-  if (heard == 0 && logger.receivedTotal() == 0 && !o.allow_empty) {
+  if (logger.receivedTotal() == 0 && !o.allow_empty) {
     std::fprintf(stderr, "igms-logger: the log is empty: nothing was heard on %s (--allow-empty to accept that)\n",
                  url.c_str());
     return 1;
