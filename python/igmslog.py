@@ -5,6 +5,7 @@
     log.info.scene_path, log.info.clock       # session_info_t (the first one)
     log.states["t"], log.states["q"]          # (N,) simulated time, (N, nq)
     log.inputs["tip_position"]                # (M, 3) haptic inputs, by arrival
+    log.hands["client"], log.hands["force"]   # (H,), (H, 3): one row per hand per state (several people at once)
     log.client_status[-1].rate_hz             # the decoded status messages, in order
     log.counts, log.undecodable               # events per channel; messages that did not decode
 
@@ -45,6 +46,7 @@ class SessionLog:
         self.client_status = []
         self.states = {}
         self.inputs = {}
+        self.hands = {}
 
 
 def events(path):
@@ -103,6 +105,12 @@ def read(path):
                                        "in_collision", "min_obstacle_distance", "step_us"))
         out.states["t"] = out.states["sim_time"]
         out.states["link_positions"] = np.array([[p[:3] for p in s.link_poses] for s in states])
+        out.states["interaction_torque"] = np.array([s.interaction_torque for s in states])
+        out.states["nhands"] = np.array([s.nhands for s in states])
+        rows = [(s.seq, s.sim_time, s.hand_client[h], s.hand_input_seq[h], s.hand_mode[h], s.hand_force[h],
+                 s.hand_torque[h], s.hand_point[h]) for s in states for h in range(s.nhands)]
+        names = ("seq", "t", "client", "input_seq", "mode", "force", "torque", "point")
+        out.hands = {n: np.array([r[i] for r in rows]) for i, n in enumerate(names)}
     inputs = raw["IGMS_HAPTIC_INPUT"]
     if inputs:
         out.inputs = _columns(inputs, ("seq", "utime", "mode", "client_id", "tip_position"))

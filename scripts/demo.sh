@@ -9,7 +9,9 @@
 # path, snapshots; PNG and SVG), summary.md and summary.json, and view_push1.png,
 # view_push2.png (or view_pull1.png): the live view at each push, from headless Chromium. For contrast it
 # also runs the nominal motion without interaction (out/demo/nominal/), which hits
-# the obstacle.
+# the obstacle, and two hands at once (out/demo/two_hands/): a 6-D pull of the
+# end-effector (client 1) while a push on link 2 (client 2) acts; its summary
+# reports each hand.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=push
@@ -27,4 +29,7 @@ echo
 # The live view at the moment of each push (or pull), from the recorded session, in headless Chromium.
 scripts/screenshot_pushes.py "$out/session.lcmlog" "$out"
 echo
-echo "demo: wrote $out/ (summary.md, plots, view_*.png, session.lcmlog, edited_trajectory.yaml)"
+echo "== two hands at once (out/demo/two_hands/summary.md):"
+scripts/paper_run.sh two_hands "$out/two_hands" | sed -n '3,$p'
+echo
+echo "demo: wrote $out/ (summary.md, plots, view_*.png, session.lcmlog, edited_trajectory.yaml; two_hands/)"

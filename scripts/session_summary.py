@@ -6,6 +6,7 @@ their forces, the joints that went beyond their limits, the client's rate and
 deadline misses (from the logged client status). Writes OUT/summary.json and
 OUT/summary.md, prints the latter.
 Usage: scripts/session_summary.py OUT_DIR TITLE"""
+import collections
 import csv
 import json
 import os
@@ -25,6 +26,50 @@ def last_row(path, running=None):
         return None
     rows = [r for r in csv.DictReader(open(path)) if running is None or float(r[running]) > 0]
     return rows[-1] if rows else None
+
+
+def hand_interactions(path):
+    """{client: {"interactions": [...]}} from the export's hands.csv: each client's stretches of push or pull,
+    with the largest force and torque it applied (clients that never interacted are left out)."""
+    if not os.path.exists(path):
+        return {}
+    per = {}
+    for r in csv.DictReader(open(path)):
+        per.setdefault(int(r["client"]), []).append(r)
+    out = {}
+    for c, rs in sorted(per.items()):
+        events, start, prev_seq = [], None, None
+        for i, r in enumerate(rs + [None]):
+            m = int(r["mode"]) if r else 0
+            seq = int(r["seq"]) if r else None
+            # A stretch ends when the mode changes or this hand had no input for a step.
+            broken = start is not None and (r is None or m != int(rs[start]["mode"]) or seq != prev_seq + 1)
+            if broken:
+                chunk = rs[start:i]
+                f = max(np.linalg.norm([float(x["fx"]), float(x["fy"]), float(x["fz"])]) for x in chunk)
+                tq = max(np.linalg.norm([float(x["tx"]), float(x["ty"]), float(x["tz"])]) for x in chunk)
+                if f >= 0.05 or tq > 0:
+                    events.append({"mode": "push" if int(rs[start]["mode"]) == 1 else "pull",
+                                   "start_s": round(float(rs[start]["t"]), 3), "end_s": round(float(chunk[-1]["t"]), 3),
+                                   "max_force_N": round(float(f), 2), "max_torque_Nm": round(float(tq), 3)})
+                start = None
+            if r and m and start is None:
+                start = i
+            prev_seq = seq
+        if events:
+            out[c] = {"interactions": events}
+    return out
+
+
+def client_loop(path, client_id):
+    """The rate (median of the running windows) and deadline misses of one client, from client_status.csv."""
+    if not os.path.exists(path):
+        return {}
+    rs = [r for r in csv.DictReader(open(path)) if int(r.get("client") or -1) == client_id]
+    running = [float(r["rate_hz"]) for r in rs if float(r["rate_hz"]) > 0]
+    if not running:
+        return {}
+    return {"rate_hz": round(float(np.median(running)), 1), "deadline_misses": int(rs[-1]["deadline_misses"])}
 
 
 def main():
@@ -61,6 +106,7 @@ def main():
             else:
                 events.append(event)
             start = i if m else None
+    hands = hand_interactions(os.path.join(exp, "hands.csv"))
     client = last_row(os.path.join(exp, "client_status.csv"), running="rate_hz")
     if client:  # the session's rate: the median of the 10 Hz windows the loop ran (the first and last are partial)
         rates = [float(r["rate_hz"]) for r in csv.DictReader(open(os.path.join(exp, "client_status.csv")))
@@ -91,6 +137,13 @@ def main():
         "server_steps": int(server["steps"]) if server else None,
         "steps": len(rows),
     }
+    if len(hands) > 1:  # several people at once: each hand's interactions and its client's loop
+        for c, h in hands.items():
+            h.update(client_loop(os.path.join(exp, "client_status.csv"), c))
+        summary["hands"] = {str(c): h for c, h in hands.items()}
+        acting = collections.Counter(r["seq"] for r in csv.DictReader(open(os.path.join(exp, "hands.csv")))
+                                     if int(r["mode"]) != 0)
+        summary["steps_with_several_hands"] = sum(1 for n in acting.values() if n > 1)
     if "wall" in obstacles:  # the paper's scene: its target is at the wall
         summary["reached_wall"], summary["reached_wall_s"] = summary["reached_target"], summary["reached_target_s"]
     json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=2)
@@ -109,14 +162,23 @@ def main():
                         f" ({summary['final_distance_to_target_m'] * 1000:.1f} mm from it at the end)"))
     if obstacles:
         lines.append(f"- closest approach to an obstacle: {summary['min_obstacle_distance_m'] * 1000:.1f} mm")
-    for e in events:
+    for e in ([] if summary.get("hands") else events):  # with several hands, each hand's are listed below
         counts[e["mode"]] = counts.get(e["mode"], 0) + 1
         lines.append(f"- {names[e['mode']]}{counts[e['mode']]}: {e['start_s']:.3f} s to {e['end_s']:.3f} s, "
                      f"largest force {e['max_force_N']} N")
     if touches:
         lines.append(f"- {len(touches)} touch(es) of the client's estimate that delivered no force (under 0.05 N), "
                      f"first at {touches[0]['start_s']:.3f} s: not counted as pushes")
-    if client:
+    for c, h in (summary.get("hands") or {}).items():
+        parts = [f"{names[e['mode']]} {e['start_s']:.3f} s to {e['end_s']:.3f} s (largest force {e['max_force_N']} N"
+                 + (f", torque {e['max_torque_Nm']} N m" if e["max_torque_Nm"] > 0 else "") + ")"
+                 for e in h["interactions"]]
+        loop = (f"; its client {h['rate_hz']:.1f} Hz, {h['deadline_misses']} deadline misses"
+                if h.get("rate_hz") is not None else "")
+        lines.append(f"- hand of client {c}: " + ("; ".join(parts) or "no interaction") + loop)
+    if summary.get("hands"):
+        lines.append(f"- several hands on the robot at once in {summary['steps_with_several_hands']} steps")
+    if client and not summary.get("hands"):
         lines.append(f"- haptic client: {summary['client_rate_hz']:.1f} Hz, {summary['deadline_misses']} deadline "
                      f"misses, round trip p50 {summary['round_trip_p50_us']} us, p99 {summary['round_trip_p99_us']} us")
     figures = ["", "![joints](joints.png)", "![forces](forces.png)", "![path](path.png)", "![snapshots](snapshots.png)"]

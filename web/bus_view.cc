@@ -125,6 +125,8 @@ std::string BusView::frameJson(double now, const std::string& extra) {
     s += ",\"mode\":" + std::to_string(int{m.mode});
     s += ",\"force\":"; appendArray(s, m.interaction_force, 3);
     s += ",\"point\":"; appendArray(s, m.interaction_point, 3);
+    s += ",\"torque\":"; appendArray(s, m.interaction_torque, 3);
+    s += ",\"hands\":" + std::to_string(m.nhands);
     s += ",\"in_collision\":"; s += m.in_collision ? "true" : "false";
     s += ",\"closest_link\":" + std::to_string(m.closest_link);
     s += ",\"min_distance\":"; append(s, "%.5g", m.min_obstacle_distance);

@@ -5,6 +5,13 @@
 // velocity), so we use the passive sign of Hogan's impedance control, which the
 // paper cites for this law. The spring's stretch is capped so that a jump of
 // the device cannot inject a huge force, and |F| is capped at max_force.
+//
+// In six dimensions (the paper's X_ph and X_endeff are poses, k and b 6x6) the
+// grasped frame's orientation R is tied to the device's R_ph as well: the
+// error is the rotation vector e = log(R_ph R^T) (world axes, on SO(3), not
+// Euler angles), the torque k_r e + b_r (w_ph - w), e capped at max_angle and
+// |torque| at max_torque. With k and b block-diagonal (translation and
+// rotation uncoupled at the grasped point) the 6-D law is these two laws.
 #pragma once
 
 #include "core/model/model.h"
@@ -33,6 +40,38 @@ inline PullForce pullForce(double k, double b, double max_stretch, double max_fo
     out.clamped = true;
   }
   out.on_robot = F;
+  return out;
+}
+
+// The rotation vector of R (axis times angle, angle in [0, pi]): SO(3)'s log map.
+inline Vector3 rotationLog(const Matrix3& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+struct PullTorque {
+  Vector3 on_robot = Vector3::Zero();  // N m, world
+  bool angle_capped = false;
+  bool clamped = false;
+};
+
+// R_ph, R: world <- device, world <- grasped frame; w_ph, w: their angular velocities, world.
+inline PullTorque pullTorque(double k_rot, double b_rot, double max_angle, double max_torque, const Matrix3& R_ph,
+                             const Vector3& w_ph, const Matrix3& R, const Vector3& w) {
+  PullTorque out;
+  Vector3 e = rotationLog(R_ph * R.transpose());
+  const double angle = e.norm();
+  if (angle > max_angle) {
+    e *= max_angle / angle;
+    out.angle_capped = true;
+  }
+  Vector3 T = k_rot * e + b_rot * (w_ph - w);
+  const double n = T.norm();
+  if (n > max_torque) {
+    T *= max_torque / n;
+    out.clamped = true;
+  }
+  out.on_robot = T;
   return out;
 }
 

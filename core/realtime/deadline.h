@@ -40,6 +40,8 @@ class PeriodicDeadline {
   // Sleeps until the current deadline (at once when it has passed).
   void sleep() const { clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next_, nullptr); }
   void advance() { next_ = addNanoseconds(next_, period_ns_); }
+  // Moves the train later by `seconds` (a phase shift; the period stays).
+  void delay(double seconds) { next_ = addNanoseconds(next_, static_cast<int64_t>(seconds * 1e9)); }
   bool passed() const {
     timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);

@@ -18,7 +18,8 @@
 //   controller: {kp: 400, kd: 40, hold_damping: 2.0}   # scalars or one per joint
 //   interaction:
 //     push: {k_p: 2000, max_force: 40, tip_radius: 0.01}
-//     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0]}
+//     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0],
+//            k_rot: 20, b_rot: 0.5, max_torque: 5, max_angle: 0.5}   # N m/rad, N m s/rad, N m, rad
 //     workspace: {scale: 3.0, offset: [0.5, 0.0, 0.3]}   # scene = offset + scale * device
 //   simulation: {integrator: linearly_implicit, dt: 0.001, rate_hz: 1000, joint_damping: true, joint_limits: true}
 //
@@ -85,6 +86,12 @@ struct PullParams {
   double max_stretch = 0.1;    // m: the spring's stretch is capped, so a jump cannot inject a huge force
   std::string link;            // attachment link (default: the last link of the model)
   Vector3 point = Vector3::Zero();
+  // The rotational half of the 6-D pull, for devices that report an orientation
+  // (k_rot 0: the pull stays 3-D whatever the device).
+  double k_rot = 0.0;          // N m/rad
+  double b_rot = 0.0;          // N m s/rad
+  double max_torque = 5.0;     // N m
+  double max_angle = 0.5;      // rad: the rotational spring's stretch cap
 };
 
 struct Scene {

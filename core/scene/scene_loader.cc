@@ -257,7 +257,8 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       s.push.tip_radius = r.positive(p, "tip_radius", s.push.tip_radius, "interaction.push");
     }
     if (const YAML::Node p = in["pull"]) {
-      r.onlyKeys(p, "interaction.pull", {"k", "b", "max_force", "max_stretch", "link", "point"});
+      r.onlyKeys(p, "interaction.pull", {"k", "b", "max_force", "max_stretch", "link", "point", "k_rot", "b_rot",
+                                               "max_torque", "max_angle"});
       s.pull.enabled = true;
       s.pull.k = r.positive(p, "k", s.pull.k, "interaction.pull");
       s.pull.b = r.number(p, "b", s.pull.b);
@@ -266,6 +267,13 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       s.pull.max_stretch = r.positive(p, "max_stretch", s.pull.max_stretch, "interaction.pull");
       s.pull.link = r.text(p, "link", "");
       s.pull.point = r.vector3(p, "point", Vector3::Zero());
+      s.pull.k_rot = r.number(p, "k_rot", s.pull.k_rot);
+      if (s.pull.k_rot < 0.0) r.fail(p["k_rot"], "interaction.pull.k_rot", "must be >= 0 (N m/rad)");
+      s.pull.b_rot = r.number(p, "b_rot", s.pull.b_rot);
+      if (s.pull.b_rot < 0.0) r.fail(p["b_rot"], "interaction.pull.b_rot", "must be >= 0 (N m s/rad)");
+      s.pull.max_torque = r.positive(p, "max_torque", s.pull.max_torque, "interaction.pull");
+      s.pull.max_angle = r.positive(p, "max_angle", s.pull.max_angle, "interaction.pull");
+      if (s.pull.max_angle > 3.14159) r.fail(p["max_angle"], "interaction.pull.max_angle", "must be <= pi (rad)");
     }
     if (const YAML::Node w = in["workspace"]) {
       r.onlyKeys(w, "interaction.workspace", {"scale", "offset"});

@@ -15,16 +15,17 @@ namespace igms {
 
 CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s)
     : model_(m), scene_(s), limits_(m, s.q0.size() == m.nq ? s.q0 : neutralConfiguration(m), s.joint_limits), data_(m), tau_total_(VectorX::Zero(m.nv)), fext_(static_cast<size_t>(m.nb)),
-      KJ_(3, m.nv), J_(6, m.nv) {}
+      KJ_(6, m.nv), J_(6, m.nv) {}
 
 CoupledEvaluation CoupledDynamics::makeEvaluation() const {
-  return {VectorX::Zero(model_.nv), VectorX::Zero(model_.nv), CouplingForce{}, VectorX::Zero(model_.nv),
-          VectorX::Zero(model_.nv)};
+  CoupledEvaluation e;
+  e.qdd = e.F = e.limit_k = e.limit_b = VectorX::Zero(model_.nv);
+  return e;
 }
 
 // The user's force at the state in data_ (body kinematics done): push, the
 // deepest contact of the tip with a link (eq. 3); pull, the spring-damper to
-// the attachment point (eq. 4).
+// the attachment point (eq. 4), and with an orientation its rotational half.
 void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce& out) {
   out = CouplingForce{};
   if (c.mode == InteractionMode::Push) {
@@ -53,24 +54,43 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
     out.clamped = p.clamped;
     if (!p.stretch_capped && !p.clamped) out.K = c.pull_k * Matrix3::Identity();
     if (!p.clamped) out.B = c.pull_b * Matrix3::Identity();
+    if (c.has_orientation && c.pull_k_rot > 0.0) {
+      const Matrix3 R = framePose(model_, data_, c.attach_frame).R * c.attach_rotation;
+      const Vector3 w = J_.bottomRows<3>() * v;
+      const PullTorque t = pullTorque(c.pull_k_rot, c.pull_b_rot, scene_.pull.max_angle, scene_.pull.max_torque,
+                                      c.tip_rotation, c.tip_angular_velocity, R, w);
+      out.torque = t.on_robot;
+      out.clamped = out.clamped || t.clamped;
+      if (!t.angle_capped && !t.clamped) out.k_rot = c.pull_k_rot;
+      if (!t.clamped) out.b_rot = c.pull_b_rot;
+    }
   }
   if (out.coupled && c.scale != 1.0) {
     out.on_robot *= c.scale;
+    out.torque *= c.scale;
     out.K *= c.scale;
     out.B *= c.scale;
+    out.k_rot *= c.scale;
+    out.b_rot *= c.scale;
   }
 }
 
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out) {
   bodyKinematics(model_, data_, q);
   clearExternalForces(fext_);
-  couple(in.coupling, v, out.coupling);
-  const CouplingForce& u = out.coupling;
-  if (u.coupled) addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot}, fext_);
+  bool any = false;
+  out.ncouplings = in.ncouplings;
+  for (int h = 0; h < in.ncouplings; ++h) {  // the hands' forces add up on their links
+    CouplingForce& u = out.couplings[static_cast<size_t>(h)];
+    couple(in.couplings[h], v, u);
+    if (!u.coupled) continue;
+    addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot, u.torque}, fext_);
+    any = true;
+  }
   tau_total_ = in.tau;
   if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
   if (!limits_.empty()) limits_.apply(q, v, tau_total_, out.limit_k, out.limit_b);
-  if (!forwardDynamics(model_, data_, q, v, tau_total_, u.coupled ? &fext_ : nullptr)) {
+  if (!forwardDynamics(model_, data_, q, v, tau_total_, any ? &fext_ : nullptr)) {
     out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());  // caught by the divergence guard
     return;
   }
@@ -94,16 +114,21 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
     A.diagonal() += h * at.limit_b + (h * h) * at.limit_k;
     rhs -= (h * h) * at.limit_k.cwiseProduct(v);
   }
-  const CouplingForce& u = at.coupling;
-  if (!u.coupled) return;
-  pointJacobian(model_, data_, u.frame, u.point_local, J_);
-  // A += J^T (h B + h^2 K) J, rhs -= h^2 J^T K J v, written out: no temporaries.
-  const Matrix3 M = h * u.B + h * h * u.K;
-  KJ_.noalias() = M * J_.topRows<3>();
-  const Vector3 KJv = (h * h) * (u.K * (J_.topRows<3>() * v));
-  for (int c = 0; c < model_.nv; ++c) {
-    rhs[c] -= J_.col(c).head<3>().dot(KJv);
-    for (int r = 0; r < model_.nv; ++r) A(r, c) += J_.col(r).head<3>().dot(KJ_.col(c));
+  for (int h_i = 0; h_i < at.ncouplings; ++h_i) {  // each hand's stiffness and damping, summed
+    const CouplingForce& u = at.couplings[static_cast<size_t>(h_i)];
+    if (!u.coupled) continue;
+    pointJacobian(model_, data_, u.frame, u.point_local, J_);
+    // A += J^T (h B + h^2 K) J, rhs -= h^2 J^T K J v over the 6 rows (translation: K, B at the
+    // point; rotation: k_rot I, b_rot I), written out: no temporaries.
+    KJ_.topRows<3>().noalias() = (h * u.B + h * h * u.K) * J_.topRows<3>();
+    KJ_.bottomRows<3>() = (h * u.b_rot + h * h * u.k_rot) * J_.bottomRows<3>();
+    Vector6 KJv;
+    KJv.head<3>() = (h * h) * (u.K * (J_.topRows<3>() * v));
+    KJv.tail<3>() = (h * h * u.k_rot) * (J_.bottomRows<3>() * v);
+    for (int c = 0; c < model_.nv; ++c) {
+      rhs[c] -= J_.col(c).dot(KJv);
+      for (int r = 0; r < model_.nv; ++r) A(r, c) += J_.col(r).dot(KJ_.col(c));
+    }
   }
 }
 

@@ -1,7 +1,9 @@
 // The robot coupled to the user, as the integrators see it: f(q, v) = qdd
 // under the controller torque held over the step, joint damping, the joint
-// limits (joint_limits.h), the hold damping, and the user's push (eq. 3, U_E = J^T c) or pull (eq. 4,
-// tau = J^T F) computed against the state being evaluated.
+// limits (joint_limits.h), the hold damping, and the users' pushes (eq. 3, U_E = J^T c) and pulls
+// (eq. 4, tau = J^T F, F a force and, for a device with an orientation, a torque) computed against
+// the state being evaluated. Several hands act at once: their couplings are summed, in the
+// dynamics and in the implicit step's linearisation alike.
 //
 // Everything a step holds constant is an argument (CoupledInputs), and
 // every evaluation returns its results (CoupledEvaluation: acceleration,
@@ -9,6 +11,7 @@
 // the object for a caller to read later.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -20,7 +23,10 @@ namespace igms {
 
 enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
 
-// The user's coupling over one step: the device state and the gains.
+// Hands acting on the robot in one step, at most (one coupling each).
+constexpr int kMaxHands = 4;
+
+// One hand's coupling over one step: the device state and the gains.
 struct Coupling {
   InteractionMode mode = InteractionMode::None;
   Vector3 tip = Vector3::Zero(), tip_velocity = Vector3::Zero();
@@ -28,14 +34,21 @@ struct Coupling {
   int contact_frame = -1;  // push: only this link (-1: any link with collision shapes)
   int attach_frame = -1;   // pull: the attachment link
   Vector3 attach_point = Vector3::Zero();  // pull: in the attachment link's frame
-  double push_k_p = 0.0, pull_k = 0.0, pull_b = 0.0;
+  // The 6-D pull: the device's orientation (world <- tip) and angular velocity,
+  // and the grasped frame's orientation in the attachment link (link <- grasp).
+  bool has_orientation = false;
+  Matrix3 tip_rotation = Matrix3::Identity();
+  Vector3 tip_angular_velocity = Vector3::Zero();
+  Matrix3 attach_rotation = Matrix3::Identity();
+  double push_k_p = 0.0, pull_k = 0.0, pull_b = 0.0, pull_k_rot = 0.0, pull_b_rot = 0.0;
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
 };
 
 struct CoupledInputs {
-  const VectorX& tau;       // controller torque, held over the step
-  const Coupling& coupling;
-  double hold_rate;         // 1/s: -hold_rate H v while the user interacts (0: none)
+  const VectorX& tau;          // controller torque, held over the step
+  const Coupling* couplings;   // the hands, in a stated order (the server's: by client id)
+  int ncouplings;
+  double hold_rate;            // 1/s: -hold_rate H v while a user interacts (0: none)
 };
 
 // The user's force at one evaluated state, and its linearisation.
@@ -45,14 +58,19 @@ struct CouplingForce {
   Vector3 point_local = Vector3::Zero();  // where it acts, link frame
   Vector3 point = Vector3::Zero();        // where it acts, world
   Vector3 on_robot = Vector3::Zero();     // N, world
-  bool clamped = false;                   // |F| limited to the scene's maximum
+  Vector3 torque = Vector3::Zero();       // N m, world: the 6-D pull's moment on the link
+  bool clamped = false;                   // |F| or |torque| limited to the scene's maximum
   Matrix3 K = Matrix3::Zero(), B = Matrix3::Zero();  // -dF/dx, -dF/dxdot at the point (zero when capped)
+  // -dT/dtheta, -dT/domega: k_rot I and b_rot I (the small-angle linearisation
+  // of the log map: symmetric, so the implicit step's matrix stays SPD), zero when capped.
+  double k_rot = 0.0, b_rot = 0.0;
 };
 
 struct CoupledEvaluation {
   VectorX qdd;  // NaN when H was singular (the divergence guard catches it)
   VectorX F;    // H qdd
-  CouplingForce coupling;
+  std::array<CouplingForce, kMaxHands> couplings;  // the first ncouplings, in the inputs' order
+  int ncouplings = 0;
   VectorX limit_k, limit_b;  // per velocity coordinate: the joint limits acting here (joint_limits.h), else 0
 };
 
@@ -93,7 +111,7 @@ class CoupledDynamics {
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;
-  Eigen::Matrix<double, 3, Eigen::Dynamic> KJ_;
+  Matrix6X KJ_;
   Matrix6X J_;
 };
 

@@ -86,11 +86,11 @@ void Simulation::reset() {
   if (!nominal_.empty()) nominal_.finalPoint(goal_);
   edited_count_ = 0;
   next_record_t_ = 0.0;
-  coupling_ = Coupling{};
+  gains_ = Coupling{};
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
-  last_input_seq_ = -1;
-  last_input_client_ = -1;
-  steps_without_input_ = 0;
+  setRotationalGains(scene_.pull.k_rot, scene_.pull.b_rot);
+  ncouplings_ = 0;
+  hands_.fill(HandTrack{});
   stall_noted_ = false;
   resume_ramps_ = 0;
   record(true);
@@ -105,10 +105,8 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   t_ = t;
   interacting_ = interacting;
   diverged_ = false;
-  last_input_seq_ = -1;  // a re-based copy does not know the server's gaps
-  steps_without_input_ = 0;
+  hands_.fill(HandTrack{});  // a re-based copy does not know the server's gaps
   stall_noted_ = false;
-  coupling_.scale = 1.0;
 }
 
 void Simulation::setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points) {
@@ -119,55 +117,104 @@ void Simulation::setNominalTrajectory(const std::vector<double>& times, const st
 }
 
 void Simulation::setGains(double push_k_p, double pull_k, double pull_b) {
-  coupling_.push_k_p = push_k_p;
-  coupling_.pull_k = pull_k;
-  coupling_.pull_b = pull_b;
+  gains_.push_k_p = push_k_p;
+  gains_.pull_k = pull_k;
+  gains_.pull_b = pull_b;
 }
 
-// The step's inputs: the coupling (from the validated haptic input) and the
-// controller torque; a quintic resume trajectory when an interaction ends.
-void Simulation::computeControl(const InteractionInput* in) {
+void Simulation::setRotationalGains(double k_rot, double b_rot) {
+  gains_.pull_k_rot = k_rot;
+  gains_.pull_b_rot = b_rot;
+}
+
+// The client's track, or a new one in place of the hand quiet for longest.
+Simulation::HandTrack& Simulation::track(int32_t client) {
+  for (HandTrack& h : hands_)
+    if (h.client == client) return h;
+  HandTrack* pick = &hands_[0];
+  for (HandTrack& h : hands_) {
+    if (h.client < 0) {
+      pick = &h;
+      break;
+    }
+    if (h.steps_without_input > pick->steps_without_input) pick = &h;
+  }
+  *pick = HandTrack{};
+  pick->client = client;
+  pick->stall = stall_noted_;
+  return *pick;
+}
+
+// The step's inputs: one coupling per hand (from the validated haptic inputs,
+// in client-id order) and the controller torque; a quintic resume trajectory
+// when the last interaction ends.
+void Simulation::computeControl(const HandInputs& inputs) {
   const Model& m = *model_;
-  const bool user = in && in->mode != InteractionMode::None &&
-                    ((in->mode == InteractionMode::Push && scene_.push.enabled) ||
-                     (in->mode == InteractionMode::Pull && scene_.pull.enabled));
   outcome_ = StepOutcome{};
-  if (in) {  // every consumed input is named in the state, whatever its mode
-    outcome_.input_seq = in->seq;
-    outcome_.input_client = in->client;
+  // Client-id order (a handful: insertion sort, no allocation); equal ids keep their order.
+  const int n = std::min(inputs.n, kMaxHands);
+  for (int i = 0; i < n; ++i) {
+    int j = i;
+    while (j > 0 && inputs.in[static_cast<size_t>(order_[static_cast<size_t>(j - 1)])].client >
+                        inputs.in[static_cast<size_t>(i)].client) {
+      order_[static_cast<size_t>(j)] = order_[static_cast<size_t>(j - 1)];
+      --j;
+    }
+    order_[static_cast<size_t>(j)] = i;
   }
-  coupling_.mode = user ? in->mode : InteractionMode::None;
-  // The resume ramp (see simulation.h).
-  // A gap between inputs (not before the first one): steps without any, or the client's seq jumping.
-  const bool gap = stall_noted_ ||
-                   (last_input_seq_ >= 0 &&
-                    (steps_without_input_ >= kResumeGapSteps ||
-                     (in && in->client == last_input_client_ && in->seq - last_input_seq_ > kResumeSeqJump)));
-  if (user && gap) {
-    coupling_.scale = 0.0;
-    ++resume_ramps_;
+  for (HandTrack& h : hands_) {  // every hand's ramp runs on whether or not it has an input
+    if (h.scale < 1.0) h.scale = std::min(1.0, h.scale + scene_.dt / kResumeRamp);
+    ++h.steps_without_input;
   }
-  // A stall waits for the next step that has an input: the first steps after one often have none fresh
-  // (the last arrived before the stop), and the queued inputs that follow run on in seq.
-  if (in) stall_noted_ = false;
-  if (coupling_.scale < 1.0) coupling_.scale = std::min(1.0, coupling_.scale + scene_.dt / kResumeRamp);
-  if (in) {
-    last_input_seq_ = in->seq;
-    last_input_client_ = in->client;
-    steps_without_input_ = 0;
-  } else {
-    ++steps_without_input_;
+  bool any_user = false;
+  ncouplings_ = 0;
+  for (int k = 0; k < n; ++k) {
+    const InteractionInput& in = inputs.in[static_cast<size_t>(order_[static_cast<size_t>(k)])];
+    HandOutcome& ho = outcome_.hands[static_cast<size_t>(outcome_.nhands++)];
+    ho.client = in.client;  // every consumed input is named in the state, whatever its mode
+    ho.input_seq = in.seq;
+    const bool user = (in.mode == InteractionMode::Push && scene_.push.enabled) ||
+                      (in.mode == InteractionMode::Pull && scene_.pull.enabled);
+    // The resume ramp (see simulation.h), per hand: a gap between this client's inputs (not before its
+    // first), steps without any from it, its seq jumping, or a stall of the loop.
+    HandTrack& h = track(in.client);
+    const bool gap = h.stall || (h.last_seq >= 0 && (h.steps_without_input > kResumeGapSteps ||
+                                                     in.seq - h.last_seq > kResumeSeqJump));
+    if (user && gap) {
+      h.scale = scene_.dt / kResumeRamp;  // this step is the ramp's first
+      ++resume_ramps_;
+    }
+    // A stall waits for the hand's next input: the first steps after one often have none fresh
+    // (the last arrived before the stop), and the queued inputs that follow run on in seq.
+    h.stall = false;
+    h.last_seq = in.seq;
+    h.steps_without_input = 0;
+    if (!user) continue;
+    if (!any_user) outcome_.mode = in.mode;
+    any_user = true;
+    ho.mode = in.mode;
+    Coupling& c = couplings_[static_cast<size_t>(ncouplings_++)];
+    c = gains_;
+    c.mode = in.mode;
+    c.scale = h.scale;
+    c.tip = in.tip_position;
+    c.tip_velocity = in.tip_velocity;
+    c.tip_radius = in.tip_radius;
+    c.contact_frame = in.contact_frame;
+    c.attach_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
+    c.attach_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
+    c.has_orientation = in.has_orientation;
+    c.tip_rotation = in.tip_orientation.toRotationMatrix();
+    c.tip_angular_velocity = in.tip_angular_velocity;
+    c.attach_rotation = in.attach_orientation.toRotationMatrix();
   }
-  if (user) {
-    coupling_.tip = in->tip_position;
-    coupling_.tip_velocity = in->tip_velocity;
-    coupling_.tip_radius = in->tip_radius;
-    coupling_.contact_frame = in->contact_frame;
-    coupling_.attach_frame = in->attach_frame >= 0 ? in->attach_frame : resolved_.pull_frame;
-    coupling_.attach_point = in->attach_frame >= 0 ? in->attach_point : scene_.pull.point;
+  if (n > 0) {
+    stall_noted_ = false;
+    outcome_.input_seq = outcome_.hands[0].input_seq;
+    outcome_.input_client = outcome_.hands[0].client;
   }
-  if (user && !interacting_) interacting_ = true;
-  if (!user && interacting_) {
+  if (any_user && !interacting_) interacting_ = true;
+  if (!any_user && interacting_) {
     // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
     interacting_ = false;
     if (active_) {
@@ -180,13 +227,12 @@ void Simulation::computeControl(const InteractionInput* in) {
       outcome_.replanned = true;
     }
   }
-  outcome_.mode = coupling_.mode;
   hold_rate_ = (interacting_ && active_) ? scene_.hold_damping : 0.0;
   if (!active_) {
     tau_.setZero();  // no trajectory: a passive robot
   } else if (interacting_) {
     // Hold: gravity and Coriolis compensation (and joint damping); the
-    // dynamics add the hold damping. The user's force moves the robot.
+    // dynamics add the hold damping. The users' forces move the robot.
     tau_ = bias(m, *data_, q_, v_);
     if (scene_.joint_damping) tau_ += jointDamping(m).cwiseProduct(v_);
   } else {
@@ -199,17 +245,36 @@ void Simulation::computeControl(const InteractionInput* in) {
 }
 
 bool Simulation::step(const InteractionInput* input) {
+  one_.clear();
+  if (input) one_.add(*input);
+  return step(one_);
+}
+
+bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
-  computeControl(input);
-  const CoupledInputs inputs{tau_, coupling_, hold_rate_};
+  computeControl(hands);
+  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
   // What the step reports is the evaluation at its start state.
   const CoupledEvaluation& start = scratch_->start;
   qdd_ = start.qdd;
-  outcome_.force_on_robot = start.coupling.on_robot;
-  outcome_.force_point = start.coupling.point;
-  outcome_.clamped = start.coupling.clamped && start.coupling.coupled;
+  // The couplings are in the order of the interacting hands among outcome_.hands.
+  int c = 0;
+  for (int k = 0; k < outcome_.nhands; ++k) {
+    HandOutcome& ho = outcome_.hands[static_cast<size_t>(k)];
+    if (ho.mode == InteractionMode::None) continue;
+    const CouplingForce& u = start.couplings[static_cast<size_t>(c++)];
+    if (c == 1) outcome_.force_point = u.point;  // the first interacting hand's (zero when it touches nothing)
+    if (!u.coupled) continue;
+    ho.force = u.on_robot;
+    ho.torque = u.torque;
+    ho.point = u.point;
+    ho.clamped = u.clamped;
+    outcome_.force_on_robot += u.on_robot;
+    outcome_.torque_on_robot += u.torque;
+    outcome_.clamped = outcome_.clamped || u.clamped;
+  }
   if (outcome_.clamped) ++forces_clamped_;
   t_ += scene_.dt;
   ++steps_;

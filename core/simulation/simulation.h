@@ -22,6 +22,7 @@
 // Built once from a Scene (allocates); step() never allocates.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,20 +43,56 @@ struct InteractionInput {
   int contact_frame = -1;  // push: the link the client touched (-1: any link with collision shapes)
   int attach_frame = -1;   // pull: the attachment link (-1: the scene's)
   Vector3 attach_point = Vector3::Zero();
+  // A 6-dof device: its orientation (world <- tip) and angular velocity, and
+  // the grasped frame in the attachment link (link <- grasp; the client sets it
+  // when the grab starts so that the rotational spring starts relaxed).
+  bool has_orientation = false;
+  Eigen::Quaterniond tip_orientation = Eigen::Quaterniond::Identity();
+  Vector3 tip_angular_velocity = Vector3::Zero();
+  Eigen::Quaterniond attach_orientation = Eigen::Quaterniond::Identity();
   int64_t seq = -1;
   int32_t client = -1;
 };
 
-// What the last step did, for the state message: the user's force at the
+// The inputs one step consumes: at most one per client. The step takes them
+// in client-id order whatever the order here, so a re-simulation that hands
+// over the same set reproduces the step bit for bit.
+struct HandInputs {
+  std::array<InteractionInput, kMaxHands> in;
+  int n = 0;
+  void clear() { n = 0; }
+  // false when kMaxHands inputs are already here.
+  bool add(const InteractionInput& input) {
+    if (n >= kMaxHands) return false;
+    in[static_cast<size_t>(n++)] = input;
+    return true;
+  }
+};
+
+// One hand's part of a step: the input it consumed and the force it applied.
+struct HandOutcome {
+  int32_t client = -1;
+  int64_t input_seq = -1;
+  InteractionMode mode = InteractionMode::None;  // None: the input did not interact (or its mode is off)
+  Vector3 force = Vector3::Zero();   // on the robot, world, N (this client feels its reaction)
+  Vector3 torque = Vector3::Zero();  // on the robot, world, N m (6-D pull)
+  Vector3 point = Vector3::Zero();   // where the force acts, world
+  bool clamped = false;
+};
+
+// What the last step did, for the state message: the users' forces at the
 // step's start state, whatever the integrator (what the paper plots).
 struct StepOutcome {
-  InteractionMode mode = InteractionMode::None;
-  Vector3 force_on_robot = Vector3::Zero();  // world, N (the device renders its reaction)
-  Vector3 force_point = Vector3::Zero();     // world
-  bool clamped = false;
-  bool replanned = false;                    // a resume trajectory started this step
-  int64_t input_seq = -1;
+  InteractionMode mode = InteractionMode::None;  // the first interacting hand's (in client order)
+  Vector3 force_on_robot = Vector3::Zero();      // world, N: the sum over the hands
+  Vector3 torque_on_robot = Vector3::Zero();     // world, N m: the sum of the hands' moments
+  Vector3 force_point = Vector3::Zero();         // the first interacting hand's point, world
+  bool clamped = false;                          // some hand's force or torque was limited
+  bool replanned = false;                        // a resume trajectory started this step
+  int64_t input_seq = -1;                        // the first consumed input (hands[] lists them all)
   int32_t input_client = -1;
+  std::array<HandOutcome, kMaxHands> hands;      // every consumed input, in client-id order
+  int nhands = 0;
 };
 
 class Simulation {
@@ -72,9 +109,13 @@ class Simulation {
   // the last step's qdd at time t, interacting or not. A haptic client's local
   // model re-bases itself on each server state this way. No allocation.
   void setState(double t, const VectorX& q, const VectorX& v, const VectorX& qdd, bool interacting);
-  // One step of scene.dt. input may be null (no haptic input this step).
+  // One step of scene.dt with the inputs of every hand this step consumes
+  // (none: no haptic input). Each hand's coupling is its own (its resume
+  // ramp too); their forces add up.
   // \return false when the state diverged (see divergenceReport()); the state
   // then stays at the last good one and further steps do nothing.
+  bool step(const HandInputs& inputs);
+  // One hand, or none (null).
   bool step(const InteractionInput* input);
 
   const Model& model() const { return *model_; }
@@ -101,13 +142,17 @@ class Simulation {
 
   // Replace the nominal trajectory (restarts it at the current time).
   void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
-  // Interaction gains (push k_p, pull k, pull b), e.g. from a SET_GAINS command.
+  // Interaction gains (push k_p, pull k, pull b; the 6-D pull's k_rot, b_rot), e.g. from a SET_GAINS command.
   void setGains(double push_k_p, double pull_k, double pull_b);
+  void setRotationalGains(double k_rot, double b_rot);
   // Resume ramps so far: interactions brought back in over kResumeRamp after a gap.
   int64_t resumeRamps() const { return resume_ramps_; }
   // The loop was stopped (over kStallGapUs between steps): if the next step that has an input interacts,
   // however many steps later, it starts a resume ramp. The server notes it from its clock, a re-simulation from the states' utime, with this one threshold.
-  void noteStall() { stall_noted_ = true; }
+  void noteStall() {
+    stall_noted_ = true;
+    for (auto& h : hands_) h.stall = true;
+  }
   static constexpr int64_t kStallGapUs = 20000;
 
   // The executed motion, sampled every 10 ms (up to 10 minutes).
@@ -121,7 +166,16 @@ class Simulation {
   std::vector<std::string> activeComponents() const;
 
  private:
-  void computeControl(const InteractionInput* input);
+  // The resume-ramp view of one client's inputs (see the rule above), one per hand.
+  struct HandTrack {
+    int32_t client = -1;
+    int64_t last_seq = -1;
+    int steps_without_input = 0;
+    bool stall = false;
+    double scale = 1.0;
+  };
+  HandTrack& track(int32_t client);
+  void computeControl(const HandInputs& inputs);
   void record(bool force);
   bool checkFinite();
 
@@ -132,7 +186,12 @@ class Simulation {
   std::unique_ptr<CoupledDynamics> dynamics_;
   std::unique_ptr<IntegratorScratch<CoupledEvaluation>> scratch_;
   // The step's inputs, set by computeControl and passed to the dynamics.
-  Coupling coupling_;
+  std::array<Coupling, kMaxHands> couplings_;
+  int ncouplings_ = 0;
+  std::array<int, kMaxHands> order_{};  // the step's inputs by client id
+  Coupling gains_;                      // the gains every coupling takes
+  std::array<HandTrack, kMaxHands> hands_;
+  HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;
   PiecewisePolynomial nominal_, resume_;
   const PiecewisePolynomial* active_ = nullptr;
@@ -144,10 +203,7 @@ class Simulation {
   bool diverged_ = false;
   std::string divergence_;
   int64_t forces_clamped_ = 0;
-  int64_t last_input_seq_ = -1;   // the resume ramp's view of the inputs
-  int32_t last_input_client_ = -1;
-  int steps_without_input_ = 0;
-  bool stall_noted_ = false;
+  bool stall_noted_ = false;       // a stall no input has followed yet (a new hand's track starts with it)
   int64_t resume_ramps_ = 0;
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;

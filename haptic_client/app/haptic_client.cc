@@ -88,7 +88,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
-  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv);
+  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;

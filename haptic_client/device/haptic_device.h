@@ -14,6 +14,8 @@ struct DeviceLimits {
   double max_force = 3.3;          // N (a PHANToM Omni's peak)
   double max_force_step = 1.0;     // N per servo cycle: the most the rendered force may change in one
   double max_stiffness = 800.0;    // N/m the device can render stably
+  double max_torque = 0.0;         // N m (0: a 3-dof device renders no torque)
+  double max_torque_step = 0.02;   // N m per servo cycle
   Vector3 workspace_min = Vector3(-0.08, -0.06, -0.035);  // m, device frame
   Vector3 workspace_max = Vector3(0.08, 0.06, 0.035);
 };
@@ -21,8 +23,9 @@ struct DeviceLimits {
 struct DeviceReading {
   Vector3 position = Vector3::Zero();  // tip, device frame, m
   Vector3 velocity = Vector3::Zero();  // m/s
-  bool has_orientation = false;
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  bool has_orientation = false;    // a 6-dof device: the 6-D pull
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // world <- tip (device axes = scene axes)
+  Vector3 angular_velocity = Vector3::Zero();  // rad/s
   int buttons = 0;                     // bit 0: the main button
   // Pull from this link point instead of the scene's (-1: the scene's pull
   // link and point). A device that can pick a link (the browser) sets it.
@@ -39,6 +42,9 @@ class HapticDevice {
   virtual DeviceReading read(double t) = 0;
   // The force to render now, device frame, N (already clamped to limits()).
   virtual void write(const Vector3& force) = 0;
+  // The torque to render now, N m (already clamped to limits().max_torque).
+  // A 3-dof device ignores it.
+  virtual void writeTorque(const Vector3& /*torque*/) {}
   // True when a scripted device has played its whole script.
   virtual bool finished(double /*t*/) const { return false; }
 };

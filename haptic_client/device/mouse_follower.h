@@ -24,6 +24,7 @@ class MouseFollower {
     bool jump = false;    // the start of a drag: the tip moves there at once
     int attach_frame = -1;
     Vector3 attach_point = Vector3::Zero();
+    Vector3 rotation = Vector3::Zero();  // pull: the grabbed frame's turn since the grab (rotation vector, world)
     int64_t seq = 0;
   };
 

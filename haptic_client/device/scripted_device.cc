@@ -56,6 +56,12 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
       wp.resolved = true;
     }
     if (!waypoints_.empty() && !(wp.t > waypoints_.back().t)) fail(path, p, "waypoint times must increase");
+    if (p["rpy"]) {
+      wp.orientation = Eigen::Quaterniond(fromXyzRpy(Vector3::Zero(), vec3(path, p, "rpy")).R);
+      has_orientation_ = true;
+    } else if (!waypoints_.empty()) {
+      wp.orientation = waypoints_.back().orientation;
+    }
     if (!wp.link.empty() && !waypoints_.empty()) {
       const Waypoint& before = waypoints_.back();
       wp.hold = before.link == wp.link && before.point == wp.point && before.offset == wp.xyz;
@@ -66,6 +72,10 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
   if (const YAML::Node b = root["buttons"])
     for (const auto& e : b) buttons_.emplace_back(e["t"].as<double>(), e["down"].as<bool>());
   end_ = root["end"] ? root["end"].as<double>() : waypoints_.back().t;
+  if (has_orientation_) {
+    limits_.max_torque = root["max_torque"] ? root["max_torque"].as<double>() : 1.0;
+    if (!(limits_.max_torque > 0.0)) fail(path, root, "max_torque: must be positive (N m)");
+  }
 }
 
 Vector3 ScriptedDevice::target(double t) {
@@ -101,8 +111,28 @@ Vector3 ScriptedDevice::target(double t) {
   return at(waypoints_.back());
 }
 
+Eigen::Quaterniond ScriptedDevice::orientationAt(double t) const {
+  if (t <= waypoints_.front().t) return waypoints_.front().orientation;
+  for (size_t k = 1; k < waypoints_.size(); ++k) {
+    if (t > waypoints_[k].t) continue;
+    const double u = (t - waypoints_[k - 1].t) / (waypoints_[k].t - waypoints_[k - 1].t);
+    const double s = u * u * (3.0 - 2.0 * u);  // the positions' blend
+    return waypoints_[k - 1].orientation.slerp(s, waypoints_[k].orientation);
+  }
+  return waypoints_.back().orientation;
+}
+
 DeviceReading ScriptedDevice::read(double t) {
   DeviceReading r;
+  if (has_orientation_) {  // followed exactly (the simulated hand is translational)
+    r.has_orientation = true;
+    r.orientation = orientationAt(t);
+    if (last_t_ >= 0 && t > last_t_) {
+      const Eigen::AngleAxisd turn(r.orientation * last_orientation_.inverse());
+      r.angular_velocity = turn.angle() * turn.axis() / (t - last_t_);
+    }
+    last_orientation_ = r.orientation;
+  }
   const Vector3 goal = frame_scene_ ? map_.toDevice(target(t)) : target(t);
   if (!hand_) {
     r.position = goal;

@@ -9,6 +9,10 @@
 //                           # a point of a link (link frame) plus a world offset,
 //                           # read from the client's estimate when the segment to it starts
 //     - {t: 0.9, link: link3, point: [0.02, 0.22, 0.15], offset: [0, 0, 0.04]}   # push 3 cm
+//     - {t: 1.5, xyz: [0.4, 0.0, 0.5], rpy: [0, 0, 0.3]}
+//                           # a 6-dof device: the tip's orientation (world <- tip, roll pitch yaw, rad),
+//                           # slerped between waypoints; waypoints without rpy keep the one before
+//   max_torque: 1.0         # N m the device renders (a script with rpy; default 1)
 //   buttons:
 //     - {t: 2.0, down: true}
 //     - {t: 4.0, down: false}
@@ -40,6 +44,8 @@ class ScriptedDevice : public HapticDevice {
   DeviceLimits limits() const override { return limits_; }
   DeviceReading read(double t) override;
   void write(const Vector3& force) override { force_ = force; }
+  void writeTorque(const Vector3& torque) override { torque_ = torque; }
+  const Vector3& lastTorque() const { return torque_; }
   bool finished(double t) const override { return t >= end_; }
   double endTime() const { return end_; }
 
@@ -52,8 +58,10 @@ class ScriptedDevice : public HapticDevice {
     Vector3 offset = Vector3::Zero(); // as written (xyz becomes the resolved target)
     bool hold = false;                // the same link, point and offset as the waypoint before: stay there
     bool resolved = false;
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   };
   Vector3 target(double t);
+  Eigen::Quaterniond orientationAt(double t) const;
   std::string path_;
   WorkspaceMap map_;
   LinkLookup link_pose_;
@@ -62,7 +70,9 @@ class ScriptedDevice : public HapticDevice {
   std::vector<std::pair<double, bool>> buttons_;
   double end_ = 0.0;
   DeviceLimits limits_;
-  Vector3 force_ = Vector3::Zero();
+  Vector3 force_ = Vector3::Zero(), torque_ = Vector3::Zero();
+  bool has_orientation_ = false;
+  Eigen::Quaterniond last_orientation_ = Eigen::Quaterniond::Identity();
   // Simulated hand.
   bool hand_ = false;
   double hand_mass_ = 0.3, hand_k_ = 400.0, hand_b_ = 25.0;

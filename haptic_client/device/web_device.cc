@@ -68,7 +68,7 @@ class WebDevice::Page {
   }
 
   // {"type":"device","seq":N,"tip":[x,y,z],"active":b,"pull":b,"jump":b,
-  //  "attach_link":"name","attach_point":[x,y,z]}
+  //  "attach_link":"name","attach_point":[x,y,z],"rotation":[rx,ry,rz]}   (rotation: optional, |r| <= pi)
   PageMessage target(const json& m) {
     Target t;
     if (!m.contains("seq") || !m["seq"].is_number_integer()) return PageMessage::Malformed;
@@ -82,6 +82,7 @@ class WebDevice::Page {
       const std::string link = m["attach_link"];
       if (link.size() > 200 || (t.attach_frame = context_.frame_index(link)) < 0) return PageMessage::Malformed;
       if (!vector3(m, "attach_point", 10.0, &t.attach_point)) return PageMessage::Malformed;
+      if (m.contains("rotation") && !vector3(m, "rotation", M_PI + 1e-9, &t.rotation)) return PageMessage::Malformed;
     }
     last_seq_ = t.seq;
     device_.target_.write(t);
@@ -122,16 +123,18 @@ class WebDevice::Page {
   }
 
   std::string extra() {
-    Vector3 tip, force;
+    Vector3 tip, force, torque;
     device_.tip_shown_.read(&tip);
     device_.force_shown_.read(&force);
+    device_.torque_shown_.read(&torque);
     Target t;
     device_.target_.read(&t);
-    char buf[320];
+    char buf[448];
     std::snprintf(buf, sizeof buf,
-                  ",\"device\":{\"tip\":[%.5f,%.5f,%.5f],\"force\":[%.4f,%.4f,%.4f],\"active\":%s,\"pull\":%s,"
-                  "\"limit\":%.3g}",
-                  tip.x(), tip.y(), tip.z(), force.x(), force.y(), force.z(), t.active ? "true" : "false",
+                  ",\"device\":{\"tip\":[%.5f,%.5f,%.5f],\"force\":[%.4f,%.4f,%.4f],\"torque\":[%.4f,%.4f,%.4f],"
+                  "\"rotation\":[%.4f,%.4f,%.4f],\"active\":%s,\"pull\":%s,\"limit\":%.3g}",
+                  tip.x(), tip.y(), tip.z(), force.x(), force.y(), force.z(), torque.x(), torque.y(), torque.z(),
+                  t.rotation.x(), t.rotation.y(), t.rotation.z(), t.active ? "true" : "false",
                   t.pull ? "true" : "false", device_.limits_.max_force);
     return buf;
   }
@@ -164,6 +167,8 @@ WebDevice::WebDevice(const std::string& args, const DeviceContext& context)
   target_.write(Target{});
   tip_shown_.write(follower_.position());
   force_shown_.write(Vector3::Zero());
+  torque_shown_.write(Vector3::Zero());
+  limits_.max_torque = 1.0;  // N m: a 6-dof device's (the page shows it)
   page_ = std::make_unique<Page>(*this, options, context);
   name_ = "web:" + options.bind + ":" + std::to_string(options.port);
   std::printf("%s\n", page_->url().c_str());
@@ -184,6 +189,18 @@ DeviceReading WebDevice::read(double t) {
   r.buttons = current_.pull ? 1 : 0;
   r.attach_frame = current_.pull ? current_.attach_frame : -1;
   r.attach_point = current_.attach_point;
+  // The orientation turns toward the page's (identity outside a pull) at most kMaxTurnRate.
+  const double angle = current_.pull ? current_.rotation.norm() : 0.0;
+  const Eigen::Quaterniond goal(angle > 0.0 ? Eigen::AngleAxisd(angle, current_.rotation / angle)
+                                            : Eigen::AngleAxisd::Identity());
+  const double gap = orientation_.angularDistance(goal);
+  const double step = std::min(1.0, dt > 0.0 && gap > 0.0 ? kMaxTurnRate * dt / gap : (dt > 0.0 ? 1.0 : 0.0));
+  const Eigen::Quaterniond next = orientation_.slerp(step, goal).normalized();
+  const Eigen::AngleAxisd turn(next * orientation_.inverse());
+  r.has_orientation = true;
+  r.orientation = next;
+  r.angular_velocity = dt > 0.0 ? Vector3(turn.angle() * turn.axis() / dt) : Vector3::Zero();
+  orientation_ = next;
   return r;
 }
 
@@ -191,6 +208,8 @@ void WebDevice::write(const Vector3& force) {
   last_force_ = force;
   force_shown_.write(force);
 }
+
+void WebDevice::writeTorque(const Vector3& torque) { torque_shown_.write(torque); }
 
 IGMS_REGISTER_DEVICE((DeviceEntry{
     "web", "web[:[ADDR:]PORT]   the browser page and its mouse (default 127.0.0.1:8081; the URL with the token is printed)",

@@ -3,7 +3,9 @@
 // device tip in the scene. The page sends targets at display rate (about
 // 60 Hz); read() follows them at 1 kHz through a MouseFollower (smooth,
 // with bounded speed and acceleration). The force a PHANToM would render
-// goes back to the page (an arrow at the tip and a bar in the HUD).
+// goes back to the page (an arrow at the tip and a bar in the HUD). It is a
+// 6-dof device: during a pull, Alt-drag turns the grabbed frame (the 6-D
+// pull); its torque goes back to the page too.
 //
 // The page's WebSocket must carry the token printed in the URL (stdout's
 // first line); messages from other pages, and malformed ones, are rejected
@@ -39,6 +41,8 @@ class WebDevice : public HapticDevice {
   DeviceLimits limits() const override { return limits_; }
   DeviceReading read(double t) override;
   void write(const Vector3& force) override;
+  void writeTorque(const Vector3& torque) override;
+  static constexpr double kMaxTurnRate = 4.0;  // rad/s: how fast the device's orientation follows the page's
 
  private:
   class Page;
@@ -51,8 +55,9 @@ class WebDevice : public HapticDevice {
   double last_t_ = -1.0;
   Target current_{};
   Vector3 last_force_ = Vector3::Zero();  // rendered last cycle
+  Eigen::Quaterniond orientation_ = Eigen::Quaterniond::Identity();
   // Shown on the page.
-  LatestValue<Vector3> tip_shown_, force_shown_;
+  LatestValue<Vector3> tip_shown_, force_shown_, torque_shown_;
   std::unique_ptr<Page> page_;
 };
 

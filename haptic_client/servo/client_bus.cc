@@ -1,5 +1,7 @@
 #include "haptic_client/servo/client_bus.h"
 
+#include <algorithm>
+
 #include "channels.h"
 #include "core/realtime/clock.h"
 #include "safe_decode.h"
@@ -17,8 +19,8 @@ ReceivedState initialState(int nlinks, int nq, int nv) {
 }
 }  // namespace
 
-ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv)
-    : lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq, nv)) {
+ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id)
+    : client_id_(client_id), lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq, nv)) {
   haptic_input_t probe{};
   buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256);
   if (!lcm_.good()) return;
@@ -40,9 +42,25 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
       static_cast<size_t>(m->nv) != s.v.size())
     return;
   s.seq = m->seq;
-  s.input_seq = m->input_seq;
-  s.input_client = m->input_client;
+  // This client's hand among the step's hands (none: the step did not consume an input of ours).
+  s.input_seq = -1;
+  s.input_client = -1;
   s.mode = m->mode;
+  s.own_mode = 0;
+  s.own_force.setZero();
+  s.own_torque.setZero();
+  s.nhands = 0;
+  s.nconsumed = std::max(0, m->nhands);
+  const size_t nhands = static_cast<size_t>(std::max(0, m->nhands));
+  for (size_t h = 0; h < nhands; ++h) {
+    if (m->hand_mode[h] != 0) ++s.nhands;
+    if (m->hand_client[h] != client_id_) continue;
+    s.input_seq = m->hand_input_seq[h];
+    s.input_client = client_id_;
+    s.own_mode = m->hand_mode[h];
+    s.own_force = Vector3(m->hand_force[h][0], m->hand_force[h][1], m->hand_force[h][2]);
+    s.own_torque = Vector3(m->hand_torque[h][0], m->hand_torque[h][1], m->hand_torque[h][2]);
+  }
   s.sim_time = m->sim_time;
   for (size_t k = 0; k < s.links.size(); ++k) {
     const auto& p = m->link_poses[k];

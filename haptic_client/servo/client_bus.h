@@ -26,7 +26,8 @@ struct ReceivedState {
 class ClientBus {
  public:
   // nlinks, nq, nv: the scene's model; states of another shape are ignored.
-  ClientBus(const std::string& url, int nlinks, int nq, int nv);
+  // client_id: this client's; each state names its hand among the others by it.
+  ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id = 1);
   bool good() { return lcm_.good(); }
   lcm::LCM& lcm() { return lcm_; }
 
@@ -46,6 +47,7 @@ class ClientBus {
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&);
 
  private:
+  const int32_t client_id_;
   lcm::LCM lcm_;
   TripleBuffer<ReceivedState> states_;
   std::atomic<int64_t> token_{0};

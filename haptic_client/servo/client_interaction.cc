@@ -19,6 +19,14 @@ void ClientInteraction::setAttachment(int frame, const Vector3& point) {
   attach_point_ = p;
   last_attach_time_ = -1.0;  // a new point: its velocity starts afresh
   attach_velocity_.setZero();
+  attach_w_.setZero();
+}
+
+void ClientInteraction::setOrientation(bool has, const Eigen::Quaterniond& orientation,
+                                       const Vector3& angular_velocity) {
+  has_orientation_ = has && scene_.pull.k_rot > 0.0;  // a 3-D pull scene ignores the orientation
+  tip_q_ = orientation.normalized();
+  tip_w_ = angular_velocity;
 }
 
 void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons,
@@ -33,7 +41,12 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
   if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
   if (was_pulling && !pulling_) clear_cycles_ = 0;  // a released tip is inert until it has left the robot
-  if (mode != haptic_input_t::MODE_NONE && mode != static_cast<int8_t>(input_.mode)) passivity_.restart();  // a new interaction
+  // The grab: the grasped frame is the tip's orientation in the link now (relaxed rotational spring).
+  if (pulling_ && !was_pulling) attach_rotation_ = last_link_R_.transpose() * tip_q_.toRotationMatrix();
+  if (mode != haptic_input_t::MODE_NONE && mode != static_cast<int8_t>(input_.mode)) {  // a new interaction
+    passivity_.restart();
+    passivity_rot_.restart();
+  }
   msg.mode = mode;
   for (int i = 0; i < 3; ++i) {
     msg.tip_position[i] = tip[i];
@@ -44,6 +57,19 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   msg.contact_link = mode == haptic_input_t::MODE_PUSH ? model_.frames[static_cast<size_t>(contact_frame_)].name : "";
   msg.attach_link = mode == haptic_input_t::MODE_PULL ? model_.frames[static_cast<size_t>(attach_frame_)].name : "";
   for (int i = 0; i < 3; ++i) msg.attach_point[i] = attach_point_[i];
+  msg.has_orientation = has_orientation_;
+  const Eigen::Quaterniond attach_q(attach_rotation_);
+  const double tq[4] = {tip_q_.w(), tip_q_.x(), tip_q_.y(), tip_q_.z()};
+  const double aq[4] = {attach_q.w(), attach_q.x(), attach_q.y(), attach_q.z()};
+  for (int i = 0; i < 4; ++i) {
+    msg.tip_orientation[i] = has_orientation_ ? tq[i] : (i == 0 ? 1.0 : 0.0);
+    msg.attach_orientation[i] = has_orientation_ ? aq[i] : (i == 0 ? 1.0 : 0.0);
+  }
+  for (int i = 0; i < 3; ++i) msg.tip_angular_velocity[i] = has_orientation_ ? tip_w_[i] : 0.0;
+  input_.has_orientation = has_orientation_;
+  input_.tip_orientation = tip_q_;
+  input_.tip_angular_velocity = tip_w_;
+  input_.attach_orientation = attach_q;
   input_.mode = static_cast<InteractionMode>(mode);
   input_.tip_position = tip;
   input_.tip_velocity = tip_velocity;
@@ -58,8 +84,10 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   Vector3 on_user = Vector3::Zero();
   contact_ = TipContact{};
   contact_frame_ = -1;
+  torque_on_user_.setZero();
   if (pull_frame_ >= 0) {
-    const Vector3 x = links[static_cast<size_t>(attach_frame_)].act(attach_point_);
+    const SE3& link = links[static_cast<size_t>(attach_frame_)];
+    const Vector3 x = link.act(attach_point_);
     // The attachment's velocity from the estimate's own time base (a held
     // fallback cycle must not read as "stopped"), low-passed at 10 ms as
     // haptic loops do with differenced positions.
@@ -67,9 +95,16 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
       const double dt = estimate_time - last_attach_time_;
       const double alpha = last_attach_time_ < 0 ? 0.0 : dt / (0.01 + dt);
       attach_velocity_ += alpha * ((x - last_attach_) / dt - attach_velocity_);
+      if (alpha > 0.0) attach_w_ += alpha * (rotationLog(link.R * last_link_R_.transpose()) / dt - attach_w_);
       last_attach_ = x;
       last_attach_time_ = estimate_time;
     }
+    last_link_R_ = link.R;
+    if (pulling_ && has_orientation_)  // the 6-D pull's rotational half, against the estimate as the server's
+      torque_on_user_ = -pullTorque(scene_.pull.k_rot, scene_.pull.b_rot, scene_.pull.max_angle,
+                                    scene_.pull.max_torque, tip_q_.toRotationMatrix(), tip_w_,
+                                    link.R * attach_rotation_, attach_w_)
+                             .on_robot;
     if (pulling_) {
       const PullForce f = pullForce(scene_.pull.k, scene_.pull.b, scene_.pull.max_stretch, scene_.pull.max_force, tip,
                                     tip_velocity, x, attach_velocity_);
@@ -113,6 +148,22 @@ Vector3 ClientInteraction::render(const Vector3& on_user, const Vector3& tip_vel
   passivity_.commit(rendered, tip_velocity, period);
   max_force_step_ = std::max(max_force_step_, (rendered - last_force_).norm());
   last_force_ = rendered;
+  return rendered;
+}
+
+Vector3 ClientInteraction::renderTorque(const Vector3& on_user, double period, double max_torque, double max_step,
+                                        bool passivity) {
+  if (!(max_torque > 0.0)) return Vector3::Zero();  // a 3-dof device
+  // The loss ramp's scale, as render set it this cycle.
+  Vector3 rendered = clampMagnitude(guard_.armed() ? Vector3(on_user * ramp_.scale()) : Vector3::Zero(), max_torque);
+  if (passivity) rendered = clampMagnitude(passivity_rot_.apply(rendered, tip_w_, period), max_torque);
+  const Vector3 step = rendered - last_torque_;
+  if (step.norm() > max_step) {
+    rendered = last_torque_ + clampMagnitude(step, max_step);
+    ++slew_limited_;
+  }
+  passivity_rot_.commit(rendered, tip_w_, period);
+  last_torque_ = rendered;
   return rendered;
 }
 

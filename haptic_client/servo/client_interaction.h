@@ -20,8 +20,11 @@ class ClientInteraction {
 
   // Pull from this link point (frame -1: the scene's pull link and point).
   void setAttachment(int frame, const Vector3& point);
+  // A 6-dof device's orientation this cycle (world <- tip) and angular velocity; call before fillInput.
+  void setOrientation(bool has, const Eigen::Quaterniond& orientation, const Vector3& angular_velocity);
   // Step 2 of a cycle: the input (mode, tip, the link the last cycle found
-  // touched, attachment) from the device.
+  // touched, attachment) from the device. At the start of a 6-D pull the
+  // grasped frame is fixed in the link so that the rotational spring starts relaxed.
   void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, haptic_input_t& msg);
   // Step 4: the force on the user (the reaction to c or F) against the
   // estimate `links` at simulated time `estimate_time`.
@@ -33,6 +36,11 @@ class ClientInteraction {
   // by at most max_step a cycle (counted when it acts).
   Vector3 render(const Vector3& on_user, const Vector3& tip_velocity, bool lost, bool resynced_after_gap,
                  double period, const RenderLimits& limits);
+  // The 6-D pull's torque on the user from the last userForce (zero without an orientation).
+  const Vector3& userTorque() const { return torque_on_user_; }
+  // The torque's guards, as render's: loss ramp, passivity on the angular velocity, the device's
+  // largest torque, the per-cycle bound. Call after render (it shares the loss ramp's scale).
+  Vector3 renderTorque(const Vector3& on_user, double period, double max_torque, double max_step, bool passivity);
 
   bool pulling() const { return pulling_; }
   // The server is lost: a push in progress ends here, and a new one must start
@@ -45,6 +53,7 @@ class ClientInteraction {
   double maxForceStep() const { return max_force_step_; }
   int64_t slewLimited() const { return slew_limited_; }
   const PassivityController& passivity() const { return passivity_; }
+  const PassivityController& rotationalPassivity() const { return passivity_rot_; }
 
  private:
   const Model& model_;
@@ -55,7 +64,15 @@ class ClientInteraction {
   StartupGuard guard_;
   LossRamp ramp_;
   ResyncBlend blend_;
-  PassivityController passivity_;
+  PassivityController passivity_, passivity_rot_;
+  // The 6-D pull.
+  bool has_orientation_ = false;
+  Eigen::Quaterniond tip_q_ = Eigen::Quaterniond::Identity();
+  Vector3 tip_w_ = Vector3::Zero();
+  Matrix3 attach_rotation_ = Matrix3::Identity();  // link <- grasped frame
+  Matrix3 last_link_R_ = Matrix3::Identity();      // the attachment link's estimated orientation
+  Vector3 attach_w_ = Vector3::Zero();             // its angular velocity, differenced and low-passed
+  Vector3 torque_on_user_ = Vector3::Zero(), last_torque_ = Vector3::Zero();
   bool pulling_ = false, push_engaged_ = false;
   TipContact contact_;
   int contact_frame_ = -1;

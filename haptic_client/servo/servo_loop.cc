@@ -14,7 +14,7 @@ ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus
     : config_(config), period_(1.0 / config.rate_hz), sim_dt_(scene.scene.dt),
       render_limits_{device.limits().max_force, device.limits().max_force_step, config.passivity,
                      config.passivity_tolerance},
-      map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device),
+      device_limits_(device.limits()), map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device),
       bus_(bus), estimate_(estimate), links_(links), stats_(stats), interaction_(scene) {
   msg_.client_id = config.client_id;
   msg_.tip_radius = scene.scene.push.tip_radius;
@@ -41,6 +41,16 @@ double ServoLoop::run(const std::atomic<bool>& stop) {
     stats_.jitter.push(jitter_us);
     stats_.jitter_all.add(jitter_us);
     cycle(k, nominal);
+    // Sharing a lockstep server with another hand: the step waits for both inputs, so a cycle that
+    // starts too far ahead of the other client's gets its echo after its deadline. Shift this loop's
+    // phase later (at most once in 50 cycles) so that it waits 100 us less than its deadline: the
+    // client ahead stays ahead (no leapfrogging), the rate stays 1 kHz.
+    if (phase_lag_ > 0.0 && k - last_phase_shift_ >= 50) {
+      deadline.delay(phase_lag_ + 100e-6);
+      ++stats_.phase_shifts;
+      last_phase_shift_ = k;
+    }
+    phase_lag_ = 0.0;
     deadline.advance();
   }
   return monotonicSeconds() - start;
@@ -54,6 +64,7 @@ void ServoLoop::cycle(int64_t k, double nominal_start) {
   const Vector3 tip_velocity = map_.scale * reading.velocity;
   // 2. The input: pull while the button is held, push when the tip touches a link.
   interaction_.setAttachment(reading.attach_frame, reading.attach_point);
+  interaction_.setOrientation(reading.has_orientation, reading.orientation, reading.angular_velocity);
   interaction_.fillInput(tip, tip_velocity, reading.buttons, msg_);
   msg_.utime = wallMicros();
   msg_.seq = k;
@@ -85,6 +96,8 @@ void ServoLoop::take(const ReceivedState& r) {
     return;
   const double rtt = r.received - sent_inputs_.sentAt(echoed);
   if (rtt < 0.0) return;
+  const double late = rtt - config_.deadline_us * 1e-6;
+  if (r.sample.nconsumed >= 2 && late > 0.0 && rtt < period_) phase_lag_ = std::max(phase_lag_, late);
   stats_.rtt.push(rtt * 1e6);
   stats_.rtt_all.add(rtt * 1e6);
   if (r.received - rtt_window_start_ > 0.5) {
@@ -166,6 +179,11 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
   resync_ = false;
   device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
+  const DeviceLimits& limits = device_limits_;
+  const Vector3 torque = interaction_.renderTorque(interaction_.userTorque(), period_, limits.max_torque,
+                                                   limits.max_torque_step, render_limits_.passivity);
+  if (limits.max_torque > 0.0) device_.writeTorque(torque);
+  for (int i = 0; i < 3; ++i) stats_.torque[i] = torque[i];
   stats_.max_force_step = interaction_.maxForceStep();
   stats_.slew_limited = interaction_.slewLimited();
   stats_.passivity_acted = interaction_.passivity().acted();

@@ -62,6 +62,9 @@ class ServoLoop {
   const ServoConfig config_;
   const double period_, sim_dt_;
   const RenderLimits render_limits_;
+  const DeviceLimits device_limits_;
+  double phase_lag_ = 0.0;        // this cycle: how late an echo came that another hand's input held back, s
+  int64_t last_phase_shift_ = -1000;
   const WorkspaceMap map_;
   HapticDevice& device_;
   ClientBus& bus_;

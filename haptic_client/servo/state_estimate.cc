@@ -65,6 +65,11 @@ bool StateEstimate::offer(const RobotSample& in, double received) {
   s.input_seq = in.input_seq;
   s.input_client = in.input_client;
   s.mode = in.mode;
+  s.own_mode = in.own_mode;
+  s.nhands = in.nhands;
+  s.nconsumed = in.nconsumed;
+  s.own_force = in.own_force;
+  s.own_torque = in.own_torque;
   s.sim_time = in.sim_time;
   std::copy(in.links.begin(), in.links.end(), s.links.begin());
   std::copy(in.q.begin(), in.q.end(), s.q.begin());

@@ -34,9 +34,14 @@ bool parseFallback(const std::string& name, FallbackPolicy* out);
 // What the client needs of a robot_state_t.
 struct RobotSample {
   int64_t seq = -1;
-  int64_t input_seq = -1;
-  int32_t input_client = -1;
-  int8_t mode = 0;          // the interaction the server applied in this step
+  int64_t input_seq = -1;   // this client's input the step consumed (-1: none of ours)
+  int32_t input_client = -1;  // this client's id when input_seq is ours, else -1
+  int8_t mode = 0;          // the interaction the server applied in this step (any hand's: the robot was held)
+  int8_t own_mode = 0;      // this client's hand's
+  int nhands = 0;           // hands that acted on the robot in this step (several people at once)
+  int nconsumed = 0;        // clients whose input the step consumed (ours among them or not)
+  Vector3 own_force = Vector3::Zero();   // this client's force on the robot, world, N (the server's figure)
+  Vector3 own_torque = Vector3::Zero();  // N m
   double sim_time = 0.0;
   std::vector<SE3> links;   // world pose of every link
   std::vector<double> q, v, qdd;

@@ -4,6 +4,7 @@
 #   igms_start_logger LOG URL [logger options]    # background; returns once it listens
 #   igms_start_server SCENE URL [server options]  # background
 #   igms_run_client SCENE DEVICE URL [client options]   # foreground, until its duration or script ends
+#   igms_start_client SCENE DEVICE URL [client options] # background (another hand); igms_wait_clients waits
 #   igms_stop_all                                 # newest first: server, then logger (it hears the end)
 # Every process started here is stopped on any exit path (a trap on EXIT,
 # INT and TERM), so a failing script leaves nothing running.
@@ -11,6 +12,7 @@
 
 igms_build=${IGMS_BUILD:-build}
 igms_pids=()
+igms_client_pids=()
 
 igms_in_netns() {
   if [[ "${IGMS_IN_NETNS:-}" != "1" ]]; then exec scripts/netns_run.sh "$@"; fi
@@ -54,4 +56,19 @@ igms_run_client() {  # SCENE DEVICE URL [options]
   local scene=$1 device=$2 url=$3
   shift 3
   "$igms_build/haptic_client/igms-haptic" --scene "$scene" --device "$device" --lcm-url "$url" "$@"
+}
+
+igms_start_client() {  # SCENE DEVICE URL [options]: a client in the background (another hand)
+  local scene=$1 device=$2 url=$3
+  shift 3
+  "$igms_build/haptic_client/igms-haptic" --scene "$scene" --device "$device" --lcm-url "$url" "$@" &
+  igms_client_pids+=($!)
+  igms_pids+=($!)
+}
+
+igms_wait_clients() {  # the background clients' ends; fails when one failed
+  local pid rc=0
+  for pid in "${igms_client_pids[@]}"; do wait "$pid" || rc=$?; done
+  igms_client_pids=()
+  return $rc
 }

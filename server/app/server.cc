@@ -57,9 +57,10 @@ struct SceneParts {
       : sim(std::move(s)), ring(sim->model(), 512),
         states(bus, sim->model(), sim->scene().obstacles, FaultInjection{o.fault_drop, o.fault_burst_ms, o.fault_delay_us},
                o.quiet),
-        status(bus, *sim, o.clock == ServerOptions::Clock::Lockstep ? "lockstep" : "realtime", receiver, loop, o.quiet),
+        status(bus, *sim, o.clock == ServerOptions::Clock::Lockstep ? "lockstep" : "realtime", receiver, loop, o.quiet,
+               o.clock == ServerOptions::Clock::Lockstep ? Stepper::kLockstepQuietS : o.input_hold),
         publishing(ring, states, status),
-        stepper(*sim, receiver.input(), ring, loop, o.clock == ServerOptions::Clock::Lockstep, o.input_hold) {}
+        stepper(*sim, receiver.hands(), ring, loop, o.clock == ServerOptions::Clock::Lockstep, o.input_hold) {}
   std::unique_ptr<Simulation> sim;
   LoopStatus loop;
   SnapshotRing ring;
@@ -124,10 +125,11 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
     if (!control.running) break;
     bool do_step = !control.paused || control.steps_requested > 0;
     if (lockstep) {
-      // One step per new input (or STEP command), received on this thread.
-      if (!p.stepper.inputPending() && control.steps_requested == 0) {
+      // One step per new set of inputs, one from each client taking part (or per STEP command),
+      // received on this thread.
+      if (!p.stepper.lockstepReady() && control.steps_requested == 0) {
         p.publishing.pump();  // the status, when due
-        bus.handleTimeout(20);
+        bus.handleTimeout(p.stepper.inputPending() ? 1 : 20);  // an input waiting for the others': look often
         continue;
       }
       do_step = true;

@@ -21,6 +21,15 @@ StatePublisher::StatePublisher(lcm::LCM& bus, const Model& m, const std::vector<
   msg_.tau.resize(static_cast<size_t>(m.nv));
   msg_.nlinks = static_cast<int32_t>(m.frames.size());
   msg_.link_poses.assign(m.frames.size(), std::vector<double>(7, 0.0));
+  // The hand arrays keep kMaxHands rows; nhands says how many are sent (the
+  // generated encoder reads the count, not the vectors' sizes): no allocation per state.
+  msg_.hand_client.assign(kMaxHands, -1);
+  msg_.hand_input_seq.assign(kMaxHands, -1);
+  msg_.hand_mode.assign(kMaxHands, 0);
+  msg_.hand_force.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg_.hand_torque.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg_.hand_point.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg_.nhands = kMaxHands;
   buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
   stats_.step_times_us.reserve(4096);
 }
@@ -39,6 +48,19 @@ void StatePublisher::fill(const Snapshot& s) {
   for (int k = 0; k < 3; ++k) {
     msg_.interaction_force[k] = s.outcome.force_on_robot[k];
     msg_.interaction_point[k] = s.outcome.force_point[k];
+    msg_.interaction_torque[k] = s.outcome.torque_on_robot[k];
+  }
+  msg_.nhands = s.outcome.nhands;
+  for (size_t h = 0; h < static_cast<size_t>(s.outcome.nhands); ++h) {
+    const HandOutcome& o = s.outcome.hands[h];
+    msg_.hand_client[h] = o.client;
+    msg_.hand_input_seq[h] = o.input_seq;
+    msg_.hand_mode[h] = static_cast<int8_t>(o.mode);
+    for (size_t k = 0; k < 3; ++k) {
+      msg_.hand_force[h][k] = o.force[static_cast<int>(k)];
+      msg_.hand_torque[h][k] = o.torque[static_cast<int>(k)];
+      msg_.hand_point[h][k] = o.point[static_cast<int>(k)];
+    }
   }
   for (size_t f = 0; f < s.link_poses.size(); ++f) {
     const SE3& X = s.link_poses[f];

@@ -6,6 +6,7 @@
 #include "channels.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/udp_drops.h"
+#include "igms/haptic_input_t.hpp"
 #include "igms/server_status_t.hpp"
 #include "igms_build_info.h"
 #include "server/app/session_description.h"
@@ -13,8 +14,8 @@
 namespace igms {
 
 StatusReporter::StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
-                               LoopStatus& loop, bool quiet)
-    : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), scene_(sim.scene().source) {
+                               LoopStatus& loop, bool quiet, double hold_s)
+    : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), hold_s_(hold_s), scene_(sim.scene().source) {
   info_ = describeSession(sim, clock);
   for (const auto& f : sim.model().frames) link_names_.push_back(f.name);
   components_ = sim.activeComponents();
@@ -87,6 +88,17 @@ void StatusReporter::publishStatus(PublishStats& p) {
     s.limit_excess.push_back(e.excess);
   }
   s.nlimited = static_cast<int32_t>(s.limited_joints.size());
+  for (const ClientRecord& c : receiver_.clients()) {
+    if (c.last_seq < 0) continue;  // never admitted: counted in rejected_by_reason only
+    const double age = now - c.arrived;
+    s.client_ids.push_back(c.id);
+    s.client_modes.push_back(c.mode);
+    s.client_input_age_s.push_back(age);
+    s.client_active.push_back(c.mode != haptic_input_t::MODE_NONE && age <= hold_s_);
+    s.client_inputs.push_back(c.admitted);
+    s.client_rejected.push_back(c.rejected);
+  }
+  s.nclients = static_cast<int32_t>(s.client_ids.size());
   bus_.publish(channels::kServerStatus, &s);
   if (seq_ % 10 == 1) requestSessionInfo(s.session_token);
   window_start_ = now;
@@ -103,6 +115,15 @@ void StatusReporter::print(const server_status_t& s, const PublishStats& p) cons
                static_cast<long long>(s.inputs_rejected), static_cast<long long>(s.commands_received),
                static_cast<long long>(s.commands_rejected), static_cast<long long>(p.collisions), p.min_distance,
                s.state.c_str(), s.message.empty() ? "" : ": ", s.message.c_str());
+  for (int k = 0; k < s.nclients; ++k) {
+    static const char* const kModes[] = {"none", "push", "pull"};
+    const int8_t m = s.client_modes[static_cast<size_t>(k)];
+    std::fprintf(stderr, "igms-server:   client %d: %s, %s, last input %.3f s ago, %lld inputs, %lld rejected\n",
+                 s.client_ids[static_cast<size_t>(k)], m >= 0 && m <= 2 ? kModes[m] : "?",
+                 s.client_active[static_cast<size_t>(k)] ? "active" : "released",
+                 s.client_input_age_s[static_cast<size_t>(k)], static_cast<long long>(s.client_inputs[static_cast<size_t>(k)]),
+                 static_cast<long long>(s.client_rejected[static_cast<size_t>(k)]));
+  }
   for (int k = 0; k < s.nlimited; ++k)
     std::fprintf(stderr, "igms-server:   %s beyond its position limit in %lld states, by %.4f at most\n",
                  s.limited_joints[static_cast<size_t>(k)].c_str(), static_cast<long long>(s.limit_steps[static_cast<size_t>(k)]),

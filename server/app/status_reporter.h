@@ -20,8 +20,9 @@ namespace igms {
 
 class StatusReporter {
  public:
+  // hold_s: how long a client's input keeps its coupling acting (the status calls a client active within it).
   StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
-                 LoopStatus& loop, bool quiet);
+                 LoopStatus& loop, bool quiet, double hold_s);
 
   // A new session token: the next pump sends the session info with it.
   void requestSessionInfo(int64_t token);
@@ -39,6 +40,7 @@ class StatusReporter {
   BusReceiver& receiver_;
   LoopStatus& loop_;
   bool quiet_;
+  double hold_s_;
   session_info_t info_;
   std::atomic<bool> info_due_{false};
   std::atomic<int64_t> token_{0};

@@ -29,11 +29,16 @@ CommandResult setTrajectory(const command_t& c, Simulation& sim) {
 }
 
 CommandResult setGains(const command_t& c, Simulation& sim) {
-  if (c.nvalues != 3 || c.values.size() != 3) return rejected("SET_GAINS: needs 3 values (push k_p, pull k, pull b)");
+  const size_t n = c.values.size();
+  if (c.nvalues != static_cast<int32_t>(n) || (n != 3 && n != 5))
+    return rejected("SET_GAINS: needs 3 values (push k_p, pull k, pull b) or 5 (and the 6-D pull's k_rot, b_rot)");
   const double k_p = c.values[0], k = c.values[1], b = c.values[2];
   if (!(std::isfinite(k_p) && std::isfinite(k) && std::isfinite(b) && k_p > 0 && k > 0 && b >= 0))
     return rejected("SET_GAINS: k_p and k must be positive, b non-negative, all finite");
+  if (n == 5 && !(std::isfinite(c.values[3]) && std::isfinite(c.values[4]) && c.values[3] >= 0 && c.values[4] >= 0))
+    return rejected("SET_GAINS: k_rot and b_rot must be non-negative and finite");
   sim.setGains(k_p, k, b);
+  if (n == 5) sim.setRotationalGains(c.values[3], c.values[4]);
   return {};
 }
 

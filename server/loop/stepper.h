@@ -1,25 +1,37 @@
-// The step of the server's loop: the newest admitted input, one simulation
-// step, timed, and its snapshot into the ring for the publisher. Realtime: an
-// input keeps acting for input_hold after it arrived (the client may miss a
-// cycle); lockstep: each input drives exactly one step. Allocation-free.
+// The step of the server's loop: every hand's admitted input, one simulation
+// step, timed, and its snapshot into the ring for the publisher.
+// Realtime: each client's input keeps acting for input_hold after it arrived
+// (the client may miss a cycle), and a client that goes quiet releases its
+// coupling after its own hold without touching the others. Lockstep: a step
+// consumes one input from each client taking part (in client-id order, the
+// simulation's), so each input drives exactly one step. Allocation-free.
 #pragma once
 
-#include "core/realtime/latest_value.h"
+#include <array>
+
 #include "core/simulation/simulation.h"
 #include "server/loop/loop_status.h"
 #include "server/loop/snapshot.h"
-#include "server/transport/bus_receiver.h"
+#include "server/transport/hand_slots.h"
 
 namespace igms {
 
 class Stepper {
  public:
-  Stepper(Simulation& sim, const LatestValue<TimedInput>& input, SnapshotRing& ring, LoopStatus& status, bool lockstep,
+  // Lockstep: a client that sent nothing for this long no longer holds the steps back.
+  static constexpr double kLockstepQuietS = 0.25;
+  // Lockstep: an input waits at most this long for the other clients' before its step runs.
+  static constexpr double kLockstepWaitS = 0.02;
+
+  Stepper(Simulation& sim, const HandSlots& hands, SnapshotRing& ring, LoopStatus& status, bool lockstep,
           double input_hold_s)
-      : sim_(sim), input_(input), ring_(ring), status_(status), lockstep_(lockstep), input_hold_(input_hold_s) {}
+      : sim_(sim), hands_(hands), ring_(ring), status_(status), lockstep_(lockstep), input_hold_(input_hold_s) {}
 
   // An input arrived that no step has consumed yet.
-  bool inputPending() const { return input_.version() != consumed_version_; }
+  bool inputPending() const;
+  // Lockstep: every client taking part (heard within kLockstepQuietS) has an
+  // input waiting, or the first waiting one has waited kLockstepWaitS.
+  bool lockstepReady();
   // One step. \return false when the simulation diverged (its report says why).
   bool step();
   // The current state into the ring (the initial state; after each step).
@@ -27,14 +39,16 @@ class Stepper {
 
  private:
   Simulation& sim_;
-  const LatestValue<TimedInput>& input_;
+  const HandSlots& hands_;
   SnapshotRing& ring_;
   LoopStatus& status_;
   const bool lockstep_;
   const double input_hold_;
-  uint64_t consumed_version_ = 0;
+  std::array<uint64_t, kMaxHands> consumed_version_{};
+  double pending_since_ = -1.0;   // lockstep: when an input was first seen waiting
   int64_t last_snapshot_us_ = 0;  // wall time of the last state
-  TimedInput latest_;
+  std::array<TimedInput, kMaxHands> latest_;
+  HandInputs inputs_;
 };
 
 }  // namespace igms

@@ -7,6 +7,7 @@
 namespace igms {
 
 BusReceiver::BusReceiver(lcm::LCM& bus) {
+  freeSlots();
   bus.subscribe(channels::kHapticInput, &BusReceiver::onInput, this)->setQueueCapacity(1000);
   bus.subscribe(channels::kCommand, &BusReceiver::onCommand, this)->setQueueCapacity(100);
 }
@@ -14,11 +15,13 @@ BusReceiver::BusReceiver(lcm::LCM& bus) {
 void BusReceiver::startSession(const Model& model, int64_t token) {
   std::lock_guard<std::mutex> lock(mutex_);
   gate_ = std::make_unique<InputGate>(model, token);
+  freeSlots();
 }
 
 void BusReceiver::newSession(int64_t token) {
   std::lock_guard<std::mutex> lock(mutex_);
   gate_->newSession(token);
+  freeSlots();
 }
 
 void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
@@ -31,9 +34,23 @@ void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   }
   TimedInput in;
   RejectReason why;
-  if (!gate_->admit(msg, &in.input, &why)) return;
-  in.arrived = monotonicSeconds();
-  input_.write(in);
+  const double now = monotonicSeconds();
+  if (!gate_->admit(msg, &in.input, &why, now)) return;
+  in.arrived = now;
+  // The client's slot; else a free one; else one whose client has gone quiet.
+  int slot = -1;
+  for (int k = 0; k < kMaxHands && slot < 0; ++k)
+    if (slot_client_[static_cast<size_t>(k)] == msg.client_id) slot = k;
+  for (int k = 0; k < kMaxHands && slot < 0; ++k)
+    if (slot_client_[static_cast<size_t>(k)] < 0 || now - slot_arrived_[static_cast<size_t>(k)] > kSlotReclaimS)
+      slot = k;
+  if (slot < 0) {
+    gate_->rejectHandsFull(msg.client_id);
+    return;
+  }
+  slot_client_[static_cast<size_t>(slot)] = msg.client_id;
+  slot_arrived_[static_cast<size_t>(slot)] = now;
+  hands_[static_cast<size_t>(slot)].write(in);
   ++counters_.inputs_accepted;
 }
 
@@ -54,6 +71,11 @@ bool BusReceiver::takeCommands(std::deque<command_t>* out) {
   out->swap(commands_);
   mutex_.unlock();
   return true;
+}
+
+std::vector<ClientRecord> BusReceiver::clients() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return gate_ ? gate_->clients() : std::vector<ClientRecord>{};
 }
 
 BusCounters BusReceiver::counters() {

@@ -1,6 +1,7 @@
 // The server's bus side: haptic inputs and commands from LCM. Inputs are
-// validated (InputGate: rejected and counted by reason) and the newest
-// admitted one is handed to the step lock-free; commands are queued for the
+// validated (InputGate: rejected and counted by reason) and each client's
+// newest admitted one is handed to the step lock-free in that client's hand
+// slot (hand_slots.h); commands are queued for the
 // loop to apply between steps. Runs on whichever thread calls
 // lcm::LCM::handle (the bus thread, or the loop itself in lockstep).
 #pragma once
@@ -10,18 +11,13 @@
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <mutex>
+#include <vector>
 
-#include "core/realtime/latest_value.h"
 #include "igms/command_t.hpp"
+#include "server/transport/hand_slots.h"
 #include "server/transport/input_gate.h"
 
 namespace igms {
-
-// The newest admitted input, with the time it arrived.
-struct TimedInput {
-  InteractionInput input;
-  double arrived = 0.0;  // monotonic s
-};
 
 // What the status reports about the bus.
 struct BusCounters {
@@ -33,6 +29,8 @@ struct BusCounters {
 class BusReceiver {
  public:
   static constexpr size_t kMaxQueuedCommands = 100;
+  // A hand slot whose client has sent nothing for this long is given to a new client.
+  static constexpr double kSlotReclaimS = 1.0;
 
   explicit BusReceiver(lcm::LCM& bus);
   // A model (a scene was loaded) and a session token: inputs are judged against them.
@@ -40,7 +38,9 @@ class BusReceiver {
   // A reset: the same model, a new token, the clients' sequence numbers forgotten.
   void newSession(int64_t token);
 
-  const LatestValue<TimedInput>& input() const { return input_; }
+  const HandSlots& hands() const { return hands_; }
+  // The clients heard this session (for the status).
+  std::vector<ClientRecord> clients();
   // Moves the queued commands into *out without waiting; false when the
   // receiver holds its lock right now (the loop tries again next step).
   bool takeCommands(std::deque<command_t>* out);
@@ -54,7 +54,10 @@ class BusReceiver {
   std::unique_ptr<InputGate> gate_;
   std::deque<command_t> commands_;
   BusCounters counters_;
-  LatestValue<TimedInput> input_;
+  HandSlots hands_;
+  std::array<int32_t, kMaxHands> slot_client_;  // -1: free (guarded by mutex_)
+  std::array<double, kMaxHands> slot_arrived_{};
+  void freeSlots() { slot_client_.fill(-1); }
 };
 
 }  // namespace igms

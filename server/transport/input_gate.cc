@@ -8,6 +8,7 @@ namespace {
 constexpr double kMaxPosition = 100.0;  // m from the scene origin
 constexpr double kMaxSpeed = 100.0;     // m/s
 constexpr double kMaxTipRadius = 0.5;   // m
+constexpr double kMaxAngularSpeed = 100.0;  // rad/s
 
 bool finite3(const double* x) { return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]); }
 double norm3(const double* x) { return std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]); }
@@ -22,6 +23,7 @@ const char* rejectReasonName(RejectReason r) {
     case RejectReason::Token: return "wrong_session_token";
     case RejectReason::Stale: return "stale_seq";
     case RejectReason::Undecodable: return "undecodable";
+    case RejectReason::HandsFull: return "hands_full";
   }
   return "?";
 }
@@ -34,12 +36,16 @@ int64_t InputGate::rejectedTotal() const {
 
 void InputGate::newSession(int64_t token) {
   token_ = token;
-  last_seq_.clear();
+  clients_.clear();
 }
 
 bool toInteractionInput(const haptic_input_t& m, const Model& model, InteractionInput* out, RejectReason* why) {
+  const bool orientation_finite = !m.has_orientation ||
+                                  (finite3(m.tip_angular_velocity) && std::isfinite(m.tip_orientation[0]) &&
+                                   finite3(m.tip_orientation + 1) && std::isfinite(m.attach_orientation[0]) &&
+                                   finite3(m.attach_orientation + 1));
   if (!finite3(m.tip_position) || !finite3(m.tip_velocity) || !finite3(m.attach_point) ||
-      !std::isfinite(m.tip_radius)) {
+      !std::isfinite(m.tip_radius) || !orientation_finite) {
     *why = RejectReason::NonFinite;
     return false;
   }
@@ -48,6 +54,20 @@ bool toInteractionInput(const haptic_input_t& m, const Model& model, Interaction
       m.tip_radius > kMaxTipRadius || norm3(m.attach_point) > 10.0) {
     *why = RejectReason::Range;
     return false;
+  }
+  Eigen::Quaterniond tip_q = Eigen::Quaterniond::Identity(), attach_q = Eigen::Quaterniond::Identity();
+  if (m.has_orientation) {
+    // Unit quaternions (within a rounding tolerance; normalised here), and a device turning slower than 100 rad/s.
+    tip_q = Eigen::Quaterniond(m.tip_orientation[0], m.tip_orientation[1], m.tip_orientation[2], m.tip_orientation[3]);
+    attach_q = Eigen::Quaterniond(m.attach_orientation[0], m.attach_orientation[1], m.attach_orientation[2],
+                                  m.attach_orientation[3]);
+    if (std::abs(tip_q.norm() - 1.0) > 1e-3 || std::abs(attach_q.norm() - 1.0) > 1e-3 ||
+        norm3(m.tip_angular_velocity) > kMaxAngularSpeed) {
+      *why = RejectReason::Range;
+      return false;
+    }
+    tip_q.normalize();
+    attach_q.normalize();
   }
   int contact = -1, attach = -1;
   if ((!m.contact_link.empty() && (contact = model.frameIndex(m.contact_link)) < 0) ||
@@ -62,25 +82,57 @@ bool toInteractionInput(const haptic_input_t& m, const Model& model, Interaction
   out->contact_frame = contact;
   out->attach_frame = attach;
   out->attach_point = Vector3(m.attach_point[0], m.attach_point[1], m.attach_point[2]);
+  out->has_orientation = m.has_orientation;
+  out->tip_orientation = tip_q;
+  out->tip_angular_velocity = m.has_orientation ? Vector3(m.tip_angular_velocity[0], m.tip_angular_velocity[1],
+                                                          m.tip_angular_velocity[2])
+                                                : Vector3::Zero();
+  out->attach_orientation = attach_q;
   out->seq = m.seq;
   out->client = m.client_id;
   return true;
 }
 
-bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReason* why) {
+ClientRecord* InputGate::record(int32_t client) {
+  for (ClientRecord& c : clients_)
+    if (c.id == client) return &c;
+  if (clients_.size() >= kMaxClientRecords) return nullptr;
+  clients_.push_back(ClientRecord{});
+  clients_.back().id = client;
+  return &clients_.back();
+}
+
+void InputGate::rejectHandsFull(int32_t client) {
+  ++rejected_[static_cast<int>(RejectReason::HandsFull)];
+  if (ClientRecord* c = record(client)) {
+    ++c->rejected;
+    --c->admitted;  // admit() had counted it
+  }
+}
+
+bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReason* why, double now) {
   ++received_;
-  if (m.session_token != token_) return reject(RejectReason::Token, why);
+  // A foreign token is counted against a client this session already lists, and lists none (a stranger
+  // flooding ids does not crowd out this session's clients).
+  ClientRecord* c = nullptr;
+  for (ClientRecord& r : clients_)
+    if (r.id == m.client_id) c = &r;
+  auto refuse = [&](RejectReason r) {
+    if (c) ++c->rejected;
+    return reject(r, why);
+  };
+  if (m.session_token != token_) return refuse(RejectReason::Token);
+  if (!c) c = record(m.client_id);
   InteractionInput converted;
-  if (!toInteractionInput(m, model_, &converted, why)) return reject(*why, why);
-  // Newer than the last input admitted from this client (clients are few: a short list).
-  auto it = last_seq_.begin();
-  while (it != last_seq_.end() && it->first != m.client_id) ++it;
-  if (it != last_seq_.end() && m.seq <= it->second) return reject(RejectReason::Stale, why);
-  if (it == last_seq_.end()) {
-    last_seq_.emplace_back(m.client_id, m.seq);
-  } else {
-    missed_ += m.seq - it->second - 1;  // inputs of this client that never came (lost, or a full socket)
-    it->second = m.seq;
+  if (!toInteractionInput(m, model_, &converted, why)) return refuse(*why);
+  // Newer than the last input admitted from this client.
+  if (c && c->last_seq >= 0 && m.seq <= c->last_seq) return refuse(RejectReason::Stale);
+  if (c) {
+    if (c->last_seq >= 0) missed_ += m.seq - c->last_seq - 1;  // inputs of this client that never came
+    c->last_seq = m.seq;
+    ++c->admitted;
+    c->mode = m.mode;
+    c->arrived = now;
   }
   *out = converted;
   return true;

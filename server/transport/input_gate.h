@@ -12,8 +12,10 @@
 
 namespace igms {
 
-enum class RejectReason : int { NonFinite = 0, Range = 1, UnknownLink = 2, Token = 3, Stale = 4, Undecodable = 5 };
-constexpr int kRejectReasons = 6;
+enum class RejectReason : int {
+  NonFinite = 0, Range = 1, UnknownLink = 2, Token = 3, Stale = 4, Undecodable = 5, HandsFull = 6
+};
+constexpr int kRejectReasons = 7;
 const char* rejectReasonName(RejectReason r);
 
 // The checks that do not depend on the session (finite, in range, known
@@ -21,13 +23,25 @@ const char* rejectReasonName(RejectReason r);
 // server and for re-simulation of a log.
 bool toInteractionInput(const haptic_input_t& msg, const Model& model, InteractionInput* out, RejectReason* why);
 
+// One client as the gate has seen it this session.
+struct ClientRecord {
+  int32_t id = -1;
+  int64_t last_seq = -1;   // newest admitted (-1: none yet)
+  int64_t admitted = 0, rejected = 0;
+  int8_t mode = 0;         // of the newest admitted input
+  double arrived = 0.0;    // monotonic s, the newest admitted input
+};
+
 class InputGate {
  public:
   InputGate(const Model& model, int64_t session_token) : model_(model), token_(session_token) {}
 
   // true: *out holds the validated input. false: *why says which check failed.
-  bool admit(const haptic_input_t& msg, InteractionInput* out, RejectReason* why);
+  // `now`: the arrival time (monotonic s) recorded for the client.
+  bool admit(const haptic_input_t& msg, InteractionInput* out, RejectReason* why, double now = 0.0);
   void countUndecodable() { ++rejected_[static_cast<int>(RejectReason::Undecodable)]; }
+  // A valid input the receiver could not seat (every hand taken): counted against its client.
+  void rejectHandsFull(int32_t client);
   // A new session (reset): forget the clients' sequence numbers.
   void newSession(int64_t token);
 
@@ -37,6 +51,9 @@ class InputGate {
   const std::array<int64_t, kRejectReasons>& rejected() const { return rejected_; }
   int64_t rejectedTotal() const;
   int64_t token() const { return token_; }
+  // The clients heard this session, in order of first appearance (at most kMaxClientRecords).
+  const std::vector<ClientRecord>& clients() const { return clients_; }
+  static constexpr size_t kMaxClientRecords = 32;  // a flood of ids is counted, not listed
 
  private:
   bool reject(RejectReason r, RejectReason* why) {
@@ -48,7 +65,8 @@ class InputGate {
   int64_t token_;
   int64_t received_ = 0, missed_ = 0;
   std::array<int64_t, kRejectReasons> rejected_{};
-  std::vector<std::pair<int32_t, int64_t>> last_seq_;  // per client
+  ClientRecord* record(int32_t client);  // null once kMaxClientRecords are listed
+  std::vector<ClientRecord> clients_;
 };
 
 }  // namespace igms

@@ -4,6 +4,7 @@ igms-haptic --device web, and igms-viewer, as a person uses them.
 
   live_view_test.py BUILD_DIR SOURCE_DIR
 """
+import math
 import os
 import re
 import sys
@@ -29,6 +30,23 @@ procs = bs.Processes(build, work)
 def number(text):
     m = re.search(r"-?[0-9.]+", text or "")
     return float(m.group(0)) if m else None
+
+
+def turned_about_z(q0, q1):
+    """The z part of the rotation vector of q1 q0^-1 (quaternions w x y z), rad."""
+    w0, x0, y0, z0 = q0
+    w1, x1, y1, z1 = q1
+    # q1 * conj(q0)
+    w = w1 * w0 + x1 * x0 + y1 * y0 + z1 * z0
+    x = -w1 * x0 + x1 * w0 - y1 * z0 + z1 * y0
+    y = -w1 * y0 + x1 * z0 + y1 * w0 - z1 * x0
+    z = -w1 * z0 - x1 * y0 + y1 * x0 + z1 * w0
+    if w < 0:
+        w, x, y, z = -w, -x, -y, -z
+    s = (x * x + y * y + z * z) ** 0.5
+    if s < 1e-12:
+        return 0.0
+    return 2 * math.atan2(s, w) * z / s
 
 
 def press(page, key):
@@ -147,7 +165,27 @@ def body(checks, open_browser):
     checks.check(f["mode"] == 2 and page.js("return window.igms.robot.spring.visible"),
                  "shift-drag pulls, the spring is drawn")
     checks.check(moved > 0.01, "the end-effector moved toward the cursor", "%.3f m of %.3f m" % (moved, length))
-    ActionChains(driver).release().key_up(Keys.SHIFT).perform()
+    # Alt as well: the mouse turns the grabbed link (the 6-D pull) about the vertical.
+    q0 = page.js("return window.igms.linkQuaternion(arguments[0])", ee)
+    actions = ActionChains(driver)
+    actions.key_down(Keys.ALT)
+    for k in range(1, 11):
+        actions.w3c_actions.pointer_action.move_to_location(at["x"] - 90 + 6 * k, at["y"] - 50)
+        actions.w3c_actions.pointer_action.pause(0.03)
+    actions.perform()
+    torques = []
+    for _ in range(30):
+        time.sleep(0.05)
+        torques.append(sum(x * x for x in page.frame().get("torque", [0, 0, 0])) ** 0.5)
+    q1 = page.js("return window.igms.linkQuaternion(arguments[0])", ee)
+    turn_z = turned_about_z(q0, q1)
+    rotation = page.frame()["device"]["rotation"]
+    checks.check(abs(rotation[2] - 0.6) < 0.05 and max(torques) > 0.01,
+                 "alt-drag turns the grabbed frame: the page sends a turn about z and the server applies a torque",
+                 "device turn %.3f rad, largest torque %.3f N m" % (rotation[2], max(torques)))
+    checks.check(turn_z > 0.05, "the grabbed link turned about the vertical, the way the mouse went",
+                 "%.3f rad" % turn_z)
+    ActionChains(driver).release().key_up(Keys.ALT).key_up(Keys.SHIFT).perform()
     time.sleep(0.3)
     step = page.frame()["client"]["max_force_step"]
     checks.check(step <= 1.0 + 1e-6, "the rendered force stepped by at most 1 N a cycle through the pull",

@@ -45,7 +45,8 @@ TEST_P(ReplaySuite, TwoResimulationsGiveIdenticalBits) {
 
 INSTANTIATE_TEST_SUITE_P(Sessions, ReplaySuite,
                          ::testing::Values("push.lcmlog", "pull.lcmlog", "dropped.lcmlog", "paper_push.lcmlog.gz",
-                                           "paper_pull.lcmlog.gz", "paper_nominal.lcmlog.gz"),
+                                           "paper_pull.lcmlog.gz", "paper_nominal.lcmlog.gz",
+                                           "paper_two_hands.lcmlog.gz"),
                          [](const auto& info) {
                            std::string n = info.param;
                            return n.substr(0, n.find('.'));

@@ -60,6 +60,11 @@ TEST(CommandHandler, UnknownKindsAndInvalidArgumentsAreRejectedWithAReason) {
   gains.nvalues = 2;
   gains.values = {2000.0, 800.0};
   EXPECT_FALSE(applyCommand(gains, sim, control).accepted);
+  gains.nvalues = 5;
+  gains.values = {2000.0, 800.0, 10.0, -1.0, 0.5};
+  EXPECT_FALSE(applyCommand(gains, sim, control).accepted) << "a negative k_rot";
+  gains.values = {2000.0, 800.0, 10.0, 30.0, 0.5};
+  EXPECT_TRUE(applyCommand(gains, sim, control).accepted) << "the 6-D pull's gains too";
   EXPECT_FALSE(applyCommand(command(command_t::LOAD_SCENE), sim, control).accepted) << "no file";
   EXPECT_FALSE(control.reload);
   EXPECT_TRUE(control.running);

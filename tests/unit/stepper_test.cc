@@ -13,13 +13,13 @@ namespace {
 struct Rig {
   explicit Rig(bool lockstep)
       : sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml")), ring(sim.model(), 4),
-        stepper(sim, input, ring, status, lockstep, /*input_hold_s=*/0.05) {}
-  void send(int64_t seq, double age_s) {
+        stepper(sim, hands, ring, status, lockstep, /*input_hold_s=*/0.05) {}
+  void send(int64_t seq, double age_s, int slot = 0, int32_t client = 7) {
     TimedInput in;
     in.input.seq = seq;
-    in.input.client = 7;
+    in.input.client = client;
     in.arrived = monotonicSeconds() - age_s;
-    input.write(in);
+    hands[static_cast<size_t>(slot)].write(in);
   }
   int64_t consumedSeq() {
     const Snapshot* s = ring.beginRead();
@@ -29,7 +29,7 @@ struct Rig {
     return seq;
   }
   Simulation sim;
-  LatestValue<TimedInput> input;
+  HandSlots hands;
   SnapshotRing ring;
   LoopStatus status;
   Stepper stepper;

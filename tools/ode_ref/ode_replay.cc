@@ -132,22 +132,27 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
       correction_sq += correction.squaredNorm();
       tau += correction;
     }
-    const Vector3 force(st.interaction_force[0], st.interaction_force[1], st.interaction_force[2]);
-    if (st.mode != 0 && force.norm() > 0.0) {
+    // Each hand's recorded force (and 6-D pull torque) on the link its input names.
+    for (size_t h = 0; h < static_cast<size_t>(st.nhands); ++h) {
+      const Vector3 force(st.hand_force[h][0], st.hand_force[h][1], st.hand_force[h][2]);
+      const Vector3 torque(st.hand_torque[h][0], st.hand_torque[h][1], st.hand_torque[h][2]);
+      const int8_t mode = st.hand_mode[h];
+      if (mode == 0 || (force.norm() == 0.0 && torque.norm() == 0.0)) continue;
       int frame = -1;
-      const auto in = session.inputs.find(st.input_seq);
+      const auto in = session.inputs.find({st.hand_client[h], st.hand_input_seq[h]});
       if (in != session.inputs.end())
-        frame = m.frameIndex(st.mode == 1 ? in->second.contact_link : in->second.attach_link);
-      if (frame < 0 && st.mode == 2) frame = pull_frame;
+        frame = m.frameIndex(mode == 1 ? in->second.contact_link : in->second.attach_link);
+      if (frame < 0 && mode == 2) frame = pull_frame;
       if (frame < 0) {
         out.error = "state " + std::to_string(st.seq) + ": a force with no link to apply it to (input " +
-                    std::to_string(st.input_seq) + " is not in the log)";
+                    std::to_string(st.hand_input_seq[h]) + " of client " + std::to_string(st.hand_client[h]) +
+                    " is not in the log)";
         return out;
       }
       const int body = m.frame(frame).body;
-      if (body >= 0)
-        ode.addForceAtPoint(body, Vector3(st.interaction_point[0], st.interaction_point[1], st.interaction_point[2]),
-                            force);
+      if (body < 0) continue;
+      ode.addForceAtPoint(body, Vector3(st.hand_point[h][0], st.hand_point[h][1], st.hand_point[h][2]), force);
+      ode.addTorque(body, torque);
     }
     const auto t0 = std::chrono::steady_clock::now();
     ode.step(tau, h);
@@ -161,7 +166,15 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     for (int i = 0; i < 3; ++i) {
       s.interaction_force[i] = st.interaction_force[i];
       s.interaction_point[i] = st.interaction_point[i];
+      s.interaction_torque[i] = st.interaction_torque[i];
     }
+    s.nhands = st.nhands;
+    s.hand_client = st.hand_client;
+    s.hand_input_seq = st.hand_input_seq;
+    s.hand_mode = st.hand_mode;
+    s.hand_force = st.hand_force;
+    s.hand_torque = st.hand_torque;
+    s.hand_point = st.hand_point;
     // Deviation from the recorded igms run.
     for (int i = 0; i < m.nb; ++i) {
       if (m.joint_type[i] == JointType::Floating) continue;  // compared through the link poses

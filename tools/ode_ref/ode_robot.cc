@@ -167,6 +167,10 @@ void OdeRobot::addForceAtPoint(int body, const Vector3& point, const Vector3& fo
                      point.z());
 }
 
+void OdeRobot::addTorque(int body, const Vector3& torque) {
+  dBodyAddTorque(impl_->bodies[static_cast<size_t>(body)], torque.x(), torque.y(), torque.z());
+}
+
 SE3 OdeRobot::bodyPose(int i) const {
   const Impl& s = *impl_;
   const dReal* p = dBodyGetPosition(s.bodies[i]);

@@ -42,6 +42,8 @@ class OdeRobot {
   // A force at a world point on body i, world axes, for the next step only
   // (ODE clears accumulated forces after each step).
   void addForceAtPoint(int body, const Vector3& point, const Vector3& force);
+  // A moment on body i, world axes, N m, for the next step only.
+  void addTorque(int body, const Vector3& torque);
   // Reduced coordinates read back from ODE (joint angles unwrapped).
   void state(VectorX& q, VectorX& v) const;
   // World pose of body i's frame (not its centre of mass).

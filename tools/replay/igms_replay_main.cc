@@ -180,17 +180,20 @@ int exportCsv(const std::string& path, const std::string& dir) {
   std::error_code made;
   std::filesystem::create_directories(dir, made);  // out/x when out/ does not exist yet
   std::ofstream states(dir + "/states.csv"), inputs(dir + "/inputs.csv"), client(dir + "/client_status.csv"),
-      server(dir + "/server_status.csv");
+      server(dir + "/server_status.csv"), hands(dir + "/hands.csv");
   if (!states) {
     std::fprintf(stderr, "igms-replay: cannot write to %s\n", dir.c_str());
     return 2;
   }
   states.precision(17);
   inputs.precision(17);
+  hands.precision(17);
   // Every file starts with its header (states.csv's depends on the robot: written with its first row).
-  inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link\n";
+  inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link,client\n";
   client << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
-            "rendered_fx,rendered_fy,rendered_fz\n";
+            "rendered_fx,rendered_fy,rendered_fz,client\n";
+  // One row per hand per state: every input a step consumed and the force that hand applied.
+  hands << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
   server << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
             "first_collision_time,min_obstacle_distance,commands_received,commands_rejected\n";
   bool header = false;
@@ -242,7 +245,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
         for (int j = 0; j < s.nv; ++j) states << ",v" << j;
         for (int j = 0; j < s.nv; ++j) states << ",qdd" << j;
         for (int j = 0; j < s.nv; ++j) states << ",tau" << j;
-        states << ",fx,fy,fz,px,py,pz,min_obstacle_distance,in_collision,step_us";
+        states << ",fx,fy,fz,px,py,pz,min_obstacle_distance,in_collision,step_us,tx,ty,tz,nhands";
         for (int l = 0; l < s.nlinks; ++l) {
           const std::string name = l < static_cast<int>(links.size()) ? links[l] : "link" + std::to_string(l);
           states << "," << name << ".x," << name << ".y," << name << ".z";
@@ -258,20 +261,31 @@ int exportCsv(const std::string& path, const std::string& dir) {
       for (double x : s.interaction_force) states << "," << x;
       for (double x : s.interaction_point) states << "," << x;
       states << "," << s.min_obstacle_distance << "," << int{s.in_collision} << "," << s.step_us;
+      for (double x : s.interaction_torque) states << "," << x;
+      states << "," << s.nhands;
+      for (size_t h = 0; h < static_cast<size_t>(s.nhands); ++h) {
+        hands << s.sim_time << "," << s.seq << "," << s.hand_client[h] << "," << s.hand_input_seq[h] << ","
+              << int{s.hand_mode[h]};
+        for (double x : s.hand_force[h]) hands << "," << x;
+        for (double x : s.hand_torque[h]) hands << "," << x;
+        for (double x : s.hand_point[h]) hands << "," << x;
+        hands << "\n";
+      }
       for (const auto& p : s.link_poses) states << "," << p[0] << "," << p[1] << "," << p[2];
       states << "\n";
     } else if (e.channel == igms::channels::kHapticInput) {
       igms::haptic_input_t s;
       if (!igms::safeDecode(d, n, &s)) continue;
       inputs << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
-             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link
+             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link << "," << s.client_id
              << "\n";
     } else if (e.channel == igms::channels::kClientStatus) {
       igms::client_status_t s;
       if (!igms::safeDecode(d, n, &s)) continue;
       client << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
              << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
-             << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "\n";
+             << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "," << s.client_id
+             << "\n";
     }
   }
   std::fprintf(stderr, "igms-replay: exported %s to %s/\n", path.c_str(), dir.c_str());

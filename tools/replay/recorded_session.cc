@@ -22,7 +22,7 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
       out.undecodable += !out.has_info;
     } else if (e.channel == channels::kHapticInput) {
       haptic_input_t m;
-      if (safeDecode(e.data.data(), size, &m)) out.inputs.emplace(m.seq, m);
+      if (safeDecode(e.data.data(), size, &m)) out.inputs.emplace(std::make_pair(m.client_id, m.seq), m);
       else ++out.undecodable;
     } else if (e.channel == state_channel) {
       robot_state_t m;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ struct RecordedSession {
   bool has_info = false;
   session_info_t info;
   std::vector<robot_state_t> states;        // sorted by seq
-  std::map<int64_t, haptic_input_t> inputs;  // by seq
+  std::map<std::pair<int32_t, int64_t>, haptic_input_t> inputs;  // by (client_id, seq)
   // Messages on those channels that did not decode: damaged, or recorded with
   // other message types (another igms version: the type fingerprint differs).
   int64_t undecodable = 0;

@@ -1,6 +1,7 @@
 #include "tools/replay/resimulate.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 
 #include "core/simulation/simulation.h"
@@ -59,6 +60,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   bool identical = true;
   // States in step order; the first state is the initial one (seq 0).
   InteractionInput input;
+  HandInputs hands;
   int64_t previous_utime = 0;
   for (const auto& st : session.states) {
     // The server's stall test (server/loop/stepper.cc): from the last state to this step's start.
@@ -70,19 +72,25 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
                   ": states are missing from the log (dropped by the logger?) or the session was reset";
       break;
     }
-    const InteractionInput* in = nullptr;
-    if (st.input_seq >= 0) {
-      auto it = inputs.find(st.input_seq);
+    // Every input the step consumed (one per hand), as the server's gate converted it.
+    hands.clear();
+    const int nhands = std::min<int>(st.nhands, kMaxHands);
+    bool missing = false;
+    for (int h = 0; h < nhands; ++h) {
+      const auto it = inputs.find({st.hand_client[static_cast<size_t>(h)], st.hand_input_seq[static_cast<size_t>(h)]});
       RejectReason why;
       if (it == inputs.end() || !toInteractionInput(it->second, model, &input, &why)) {
-        out.error = "state " + std::to_string(st.seq) + " consumed input " + std::to_string(st.input_seq) +
-                    ", which the log does not hold";
+        out.error = "state " + std::to_string(st.seq) + " consumed input " +
+                    std::to_string(st.hand_input_seq[static_cast<size_t>(h)]) + " of client " +
+                    std::to_string(st.hand_client[static_cast<size_t>(h)]) + ", which the log does not hold";
+        missing = true;
         break;
       }
-      in = &input;
+      hands.add(input);
     }
+    if (missing) break;
     if (stalled) sim->noteStall();
-    sim->step(in);
+    sim->step(hands);
     if (st.nq != model.nq || st.nv != model.nv) {
       out.error = "the recorded states do not match the scene's model";
       break;
@@ -93,7 +101,14 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
       track(dqdd, st.qdd[j], sim->qdd()[j], st.seq, identical);
       track(dtau, st.tau[j], sim->tau()[j], st.seq, identical);
     }
-    for (int k = 0; k < 3; ++k) track(dforce, st.interaction_force[k], sim->outcome().force_on_robot[k], st.seq, identical);
+    for (int k = 0; k < 3; ++k) {
+      track(dforce, st.interaction_force[k], sim->outcome().force_on_robot[k], st.seq, identical);
+      track(dforce, st.interaction_torque[k], sim->outcome().torque_on_robot[k], st.seq, identical);
+    }
+    for (int h = 0; h < nhands && h < sim->outcome().nhands; ++h)
+      for (int k = 0; k < 3; ++k)
+        track(dforce, st.hand_force[static_cast<size_t>(h)][static_cast<size_t>(k)],
+              sim->outcome().hands[static_cast<size_t>(h)].force[k], st.seq, identical);
     const auto& poses = sim->linkPoses();
     for (int l = 0; l < st.nlinks && l < static_cast<int>(poses.size()); ++l)
       for (int k = 0; k < 3; ++k) track(dpose, st.link_poses[l][k], poses[static_cast<size_t>(l)].p[k], st.seq, identical);

@@ -16,7 +16,7 @@ export class Hud {
     $('role').textContent = role === 'device' ? '· your mouse is the device' : '· viewer';
     $('device-controls').hidden = role !== 'device';
     $('help').textContent = role === 'device'
-      ? 'drag a link: push (wheel: deeper / back) · shift-drag: pull · right-drag: orbit · ' +
+      ? 'drag a link: push (wheel: deeper / back) · shift-drag: pull (+alt: turn it) · right-drag: orbit · ' +
         'space pause/resume · s step · r reset · w save · v view'
       : 'drag: orbit · right-drag: pan · wheel: zoom · v: reset view';
   }

@@ -246,4 +246,5 @@ window.igms = {
   pointOnLink,
   linkIndex: (name) => robot.linkIndex(name),
   linkPosition: (i) => robot.linkPosition(i),
+  linkQuaternion: (i) => robot.linkQuaternion(i),
 };

@@ -4,13 +4,18 @@
 // depth. A plain drag pushes: the tip sphere starts just outside the picked
 // surface and penetrates as the mouse (or the wheel) moves it in (eq. 3). A
 // shift-drag pulls: the spring of eq. 4 from the picked point on the link to
-// the cursor. Releasing parks the tip away from the robot. The page sends
+// the cursor; holding Alt as well turns the grabbed frame instead (the 6-D
+// pull: horizontal motion about the vertical, vertical motion about the
+// screen's horizontal, ROTATE_PER_PIXEL rad a pixel; the scene's rotational
+// spring, interaction.pull.k_rot, ties the link's orientation to it).
+// Releasing parks the tip away from the robot. The page sends
 // targets at most once per displayed frame; the haptic client smooths them
 // at 1 kHz. A drag that starts off the robot orbits the view as usual.
 import * as THREE from '/three/build/three.module.js';
 
 export const WHEEL_STEP = 0.005;  // m per wheel notch
 const CLEARANCE = 0.01;  // the tip starts this far outside the surface (the link may be moving), m
+export const ROTATE_PER_PIXEL = 0.01;  // rad
 
 export class MouseDevice {
   constructor({ element, camera, controls, robot, send }) {
@@ -70,6 +75,8 @@ export class MouseDevice {
       // Push: the sphere's centre rides one radius (plus a little) off the surface.
       offset: pull ? new THREE.Vector3() : picked.normal.clone().multiplyScalar((this.robot.tipRadius || 0.01) + CLEARANCE),
       attachPoint: this.localPoint(link, picked.point),
+      rotation: new THREE.Quaternion(),  // the grabbed frame's turn since the grab, world axes (Alt-drag)
+      tip: picked.point.clone(),
     };
     this.target(picked.point, true);
   }
@@ -93,8 +100,32 @@ export class MouseDevice {
   move(e) {
     if (!this.drag) return;
     e.stopPropagation();
+    const last = this.lastEvent;
     this.lastEvent = { clientX: e.clientX, clientY: e.clientY };
+    if (this.drag.pull && e.altKey) {
+      if (last) this.turn(e.clientX - last.clientX, e.clientY - last.clientY);
+      this.target(this.drag.tip, false);  // the tip stays; the grabbed frame turns
+      return;
+    }
     this.target(this.cursorPoint(e), false);
+  }
+
+  // Alt-drag while pulling: dx turns about the vertical (z), dy about the camera's right axis.
+  turn(dx, dy) {
+    const right = new THREE.Vector3().setFromMatrixColumn(this.camera.matrixWorld, 0).normalize();
+    const q = new THREE.Quaternion().setFromAxisAngle(new THREE.Vector3(0, 0, 1), dx * ROTATE_PER_PIXEL)
+      .multiply(new THREE.Quaternion().setFromAxisAngle(right, dy * ROTATE_PER_PIXEL));
+    this.drag.rotation.premultiply(q).normalize();
+  }
+
+  // The rotation vector (axis times angle, world) of the grabbed frame's turn.
+  rotationVector() {
+    const q = this.drag.rotation.clone();
+    if (q.w < 0) q.set(-q.x, -q.y, -q.z, -q.w);
+    const s = Math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+    if (s < 1e-12) return [0, 0, 0];
+    const angle = 2 * Math.atan2(s, q.w);
+    return [q.x / s * angle, q.y / s * angle, q.z / s * angle];
   }
 
   wheel(e) {
@@ -117,9 +148,14 @@ export class MouseDevice {
 
   target(point, jump) {
     const d = this.drag;
+    d.tip = point.clone();
     const tip = point.clone().add(d.offset);
     const message = { type: 'device', tip: [tip.x, tip.y, tip.z], active: true, pull: d.pull };
-    if (d.pull) { message.attach_link = d.link.name; message.attach_point = d.attachPoint; }
+    if (d.pull) {
+      message.attach_link = d.link.name;
+      message.attach_point = d.attachPoint;
+      message.rotation = this.rotationVector();
+    }
     // A jump (the start of a drag) must not be merged away.
     if (jump) {
       message.jump = true;

@@ -332,6 +332,12 @@ export class RobotView {
     return [e[12], e[13], e[14]];
   }
 
+  // w x y z
+  linkQuaternion(i) {
+    const q = new THREE.Quaternion().setFromRotationMatrix(this.links[i].group.matrix);
+    return [q.w, q.x, q.y, q.z];
+  }
+
   // The nominal path's point at sim time t (null without a nominal path).
   nominalAt(t) {
     const path = this.hello && this.hello.nominal_path;
