@@ -163,6 +163,35 @@ int main(int argc, char** argv) {
     report("PUMA, pull coupling (hold + spring-damper), linearly_implicit", us);
   }
   {
+    // The 6-D pull (eq. 4 with X a pose): the rotational spring-damper too.
+    Simulation sim(loadScene(dir + "puma_obstacle.yaml"));
+    const SE3 X = sim.linkPoses()[static_cast<size_t>(sim.pullFrame())];
+    InteractionInput pull;
+    pull.mode = InteractionMode::Pull;
+    pull.tip_position = X.p + Vector3(0.02, 0, 0);
+    pull.has_orientation = true;
+    pull.tip_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Vector3::UnitZ()).toRotationMatrix() * X.R);
+    auto us = timeSteps(sim, &pull, n);
+    report("PUMA, 6-D pull coupling (force and torque), linearly_implicit", us);
+    // Two hands: that pull (client 1) and a push on link 2 (client 2), summed.
+    HandInputs two;
+    pull.client = 1;
+    two.add(pull);
+    InteractionInput push;
+    push.mode = InteractionMode::Push;
+    push.client = 2;
+    push.contact_frame = sim.model().frameIndex("link2");
+    push.tip_position = sim.linkPoses()[static_cast<size_t>(push.contact_frame)].act(Vector3(0.2159, 0, 0.15));
+    two.add(push);
+    std::vector<double> hands_us;
+    for (int k = 0; k < n; ++k) {
+      const auto t0 = Clock::now();
+      sim.step(two);
+      hands_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    }
+    report("PUMA, two hands: 6-D pull + push on link 2, linearly_implicit", hands_us);
+  }
+  {
     Simulation sim(loadScene(dir + "puma_obstacle.yaml"));
     CollisionWorld world(sim.model(), sim.scene().obstacles);
     std::vector<double> step_us, check_us;

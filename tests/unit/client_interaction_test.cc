@@ -61,5 +61,60 @@ TEST(ReleasedTip, PushesNothingUntilItHasBeenClearOfTheRobotFor50Cycles) {
   EXPECT_EQ(b.cycle(c, b.touching, 0), haptic_input_t::MODE_PUSH);
 }
 
+// The 6-D pull on the client's side: the grab leaves the rotational spring
+// relaxed, a turn of the device gives the server's law's torque (against the
+// estimate), and what reaches the hand is clamped to the device's torque and
+// bounded per cycle.
+TEST(SixDofPull, TheGrabIsRelaxedAndATurnGivesTheServersTorque) {
+  Bench b;
+  ClientInteraction c(b.scene);
+  c.render(Vector3::Zero(), Vector3::Zero(), false, false, 0.001, RenderLimits{30.0, 1.0, false});
+  const int ee = b.scene.model->frameIndex("ee_link");
+  const Vector3 x = b.links[static_cast<size_t>(ee)].p;
+  const Eigen::Quaterniond q0(Eigen::AngleAxisd(0.7, Vector3(1, 1, 0).normalized()));  // any device orientation
+  auto cycle = [&](const Eigen::Quaterniond& q, int buttons) {
+    haptic_input_t msg{};
+    c.setOrientation(true, q, Vector3::Zero());
+    c.fillInput(x, Vector3::Zero(), buttons, msg);
+    c.userForce(b.links, 0.0, x, Vector3::Zero());
+    return msg;
+  };
+  cycle(q0, 0);
+  const haptic_input_t grab = cycle(q0, 1);
+  EXPECT_TRUE(grab.has_orientation);
+  EXPECT_LE(c.userTorque().norm(), 1e-9) << "the grab leaves the rotational spring relaxed";
+  // The server's law on the message: R_link * attach = R_tip at the grab.
+  const Eigen::Quaterniond attach(grab.attach_orientation[0], grab.attach_orientation[1], grab.attach_orientation[2],
+                                  grab.attach_orientation[3]);
+  const Matrix3 grasped = b.links[static_cast<size_t>(ee)].R * attach.toRotationMatrix();
+  EXPECT_LE((grasped - q0.toRotationMatrix()).norm(), 1e-9);
+  // Turn the device 0.1 rad about x (world): the hand feels -k_rot * 0.1 about x.
+  const Eigen::Quaterniond turned = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Vector3::UnitX())) * q0;
+  cycle(turned, 1);
+  const double k_rot = b.scene.scene.pull.k_rot;
+  ASSERT_GT(k_rot, 0.0);
+  EXPECT_LE((c.userTorque() - (-k_rot * 0.1) * Vector3::UnitX()).norm(), 1e-9) << c.userTorque().transpose();
+  // Rendered: at most 0.5 N m (the device's), moving by at most 0.02 N m a cycle.
+  Vector3 last = Vector3::Zero();
+  double biggest_step = 0.0;
+  Vector3 rendered;
+  for (int k = 0; k < 200; ++k) {
+    rendered = c.renderTorque(c.userTorque(), 0.001, 0.5, 0.02, false);
+    biggest_step = std::max(biggest_step, (rendered - last).norm());
+    last = rendered;
+  }
+  EXPECT_NEAR(rendered.norm(), std::min(0.5, k_rot * 0.1), 1e-9);
+  EXPECT_LE(biggest_step, 0.02 + 1e-12);
+  EXPECT_EQ(c.renderTorque(c.userTorque(), 0.001, 0.0, 0.02, false), Vector3::Zero()) << "a 3-dof device: none";
+  // A 3-D pull scene ignores the orientation.
+  Scene s = b.scene.scene;
+  s.pull.k_rot = 0.0;
+  ClientInteraction c3(resolveScene(s));
+  haptic_input_t msg{};
+  c3.setOrientation(true, q0, Vector3::Zero());
+  c3.fillInput(x, Vector3::Zero(), 1, msg);
+  EXPECT_FALSE(msg.has_orientation);
+}
+
 }  // namespace
 }  // namespace igms

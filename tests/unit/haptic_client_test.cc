@@ -141,6 +141,30 @@ TEST(ScriptedDevice, FollowsWaypointsSmoothlyAndPressesButtons) {
   EXPECT_TRUE(d.finished(1.5));
 }
 
+TEST(ScriptedDevice, OrientationWaypointsMakeASixDofDevice) {
+  const std::string path = writeScript(
+      "frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0], rpy: [0, 0, 0]}\n"
+      "  - {t: 1.0, xyz: [0, 0, 0], rpy: [0, 0, 0.4]}\n  - {t: 2.0, xyz: [0, 0, 0]}\nmax_torque: 0.8\nend: 2\n");
+  ScriptedDevice d(path, WorkspaceMap{1.0, Vector3::Zero()}, nullptr);
+  EXPECT_NEAR(d.limits().max_torque, 0.8, 1e-12);
+  const DeviceReading start = d.read(0.0);
+  EXPECT_TRUE(start.has_orientation);
+  d.read(0.499);
+  const DeviceReading mid = d.read(0.5);
+  // Halfway in time is halfway in angle (the smooth blend is symmetric), about z.
+  const Eigen::AngleAxisd a(mid.orientation);
+  EXPECT_NEAR(a.angle(), 0.2, 1e-9);
+  EXPECT_NEAR(std::abs(a.axis().z()), 1.0, 1e-9);
+  // Its angular velocity is the blend's slope: 0.4 rad * 1.5 / s at the middle, about +z.
+  EXPECT_NEAR(mid.angular_velocity.z(), 0.6, 2e-3);
+  EXPECT_NEAR(Eigen::AngleAxisd(d.read(1.5).orientation).angle(), 0.4, 1e-9) << "a waypoint without rpy keeps it";
+  // Without rpy anywhere the device is 3-dof.
+  ScriptedDevice plain(writeScript("frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0]}\nend: 1\n"),
+                       WorkspaceMap{1.0, Vector3::Zero()}, nullptr);
+  EXPECT_FALSE(plain.read(0.0).has_orientation);
+  EXPECT_EQ(plain.limits().max_torque, 0.0);
+}
+
 TEST(ScriptedDevice, SimulatedHandFeelsTheRenderedForce) {
   const std::string path = writeScript(
       "frame: device\nhand: {mass: 0.3, k: 400, b: 25}\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0]}\n"

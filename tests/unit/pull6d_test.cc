@@ -200,6 +200,8 @@ TEST(Pull6D, TheImplicitStepStaysPassiveAtHighRotationalStiffness) {
         ok = sim.step(&in);
         if (ok) E_max = std::max(E_max, energy(sim, in, ee));
       }
+      std::printf("k_rot %8.0f N m/rad, %-20s %s, max E / E0 = %.6f, final E / E0 = %.4f\n", k_rot,
+                  integratorName(kind), ok ? "stable  " : "diverged", E_max / E0, ok ? energy(sim, in, ee) / E0 : NAN);
       if (kind == IntegratorKind::LinearlyImplicit) {
         EXPECT_TRUE(ok) << k_rot << ": " << sim.divergenceReport();
         EXPECT_LE(E_max, E0 * (1.0 + 1e-3)) << "k_rot " << k_rot;

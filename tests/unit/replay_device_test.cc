@@ -2,6 +2,7 @@
 // the device registry: devices by name, as --device NAME[:ARGS] finds them.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -26,6 +27,12 @@ TEST(ReplayDevice, PlaysBackTheRecordedTipMotionAndButtons) {
       m.seq = k;
       m.tip_position[0] = 0.001 * k;  // 1 m/s along x, scene frame
       m.mode = k >= 50 ? haptic_input_t::MODE_PULL : haptic_input_t::MODE_NONE;
+      m.client_id = 1;
+      // A 6-dof session: the tip turning about z at 1 rad/s.
+      m.has_orientation = true;
+      m.tip_orientation[0] = std::cos(0.0005 * k);
+      m.tip_orientation[3] = std::sin(0.0005 * k);
+      m.tip_angular_velocity[2] = 1.0;
       std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
       m.encode(buf.data(), 0, static_cast<int>(buf.size()));
       lcm::LogEvent e;
@@ -33,6 +40,12 @@ TEST(ReplayDevice, PlaysBackTheRecordedTipMotionAndButtons) {
       e.timestamp = m.utime;
       e.channel = "IGMS_HAPTIC_INPUT";
       e.datalen = static_cast<int32_t>(buf.size());
+      e.data = buf.data();
+      log.writeEvent(&e);
+      m.client_id = 2;  // another hand in the same log: not this device's
+      m.tip_position[0] = -1.0;
+      buf.assign(static_cast<size_t>(m.getEncodedSize()), 0);
+      m.encode(buf.data(), 0, static_cast<int>(buf.size()));
       e.data = buf.data();
       log.writeEvent(&e);
     }
@@ -43,6 +56,10 @@ TEST(ReplayDevice, PlaysBackTheRecordedTipMotionAndButtons) {
   EXPECT_NEAR(r.position.x(), 0.0255 / 2.0, 1e-12);  // scene 0.0255 m at scale 2
   EXPECT_NEAR(r.velocity.x(), 0.5, 1e-9);
   EXPECT_EQ(r.buttons, 0);
+  EXPECT_TRUE(r.has_orientation);
+  EXPECT_NEAR(Eigen::AngleAxisd(r.orientation).angle(), 0.0255, 1e-9) << "the orientation, slerped";
+  EXPECT_NEAR(r.angular_velocity.z(), 1.0, 1e-12);
+  EXPECT_GT(d.limits().max_torque, 0.0) << "a 6-dof session's device renders torque";
   EXPECT_EQ(d.read(0.06).buttons, 1) << "a recorded pull replays as the button held";
   EXPECT_FALSE(d.finished(0.099));
   EXPECT_TRUE(d.finished(0.11));

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "core/realtime/clock.h"
+#include <lcm/lcm-cpp.hpp>
+
 #include "server/loop/stepper.h"
+#include "server/transport/bus_receiver.h"
 #include "server/transport/input_gate.h"
 #include "tests/support/test_models.h"
 
@@ -62,6 +65,131 @@ TEST(Stepper, LockstepUsesEachInputWhateverItsAgeAndCountsRingDrops) {
   for (int k = 0; k < 6; ++k) ASSERT_TRUE(rig.stepper.step());  // nobody drains: a ring of 4
   EXPECT_EQ(rig.status.ring_drops.load(), 2);
   EXPECT_NEAR(rig.sim.time(), 0.007, 1e-12);
+}
+
+// Several hands: realtime, each slot's input holds on its own; lockstep, a step waits for one input
+// from each client taking part (up to kLockstepWaitS) and consumes one from each.
+TEST(Stepper, EachHandsInputHoldsOnItsOwnAndTheStepTakesThemAll) {
+  Rig rig(/*lockstep=*/false);
+  rig.send(5, 0.0, /*slot=*/0, /*client=*/1);
+  rig.send(9, 0.2, /*slot=*/1, /*client=*/2);  // older than its hold: released
+  ASSERT_TRUE(rig.stepper.step());
+  const Snapshot* s = rig.ring.beginRead();
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->outcome.nhands, 1);
+  EXPECT_EQ(s->outcome.hands[0].client, 1);
+  rig.ring.endRead();
+  rig.send(10, 0.0, 1, 2);
+  ASSERT_TRUE(rig.stepper.step());
+  s = rig.ring.beginRead();
+  ASSERT_NE(s, nullptr);
+  ASSERT_EQ(s->outcome.nhands, 2);
+  EXPECT_EQ(s->outcome.hands[0].client, 1);
+  EXPECT_EQ(s->outcome.hands[1].client, 2);
+  EXPECT_EQ(s->outcome.hands[1].input_seq, 10);
+  rig.ring.endRead();
+}
+
+TEST(Stepper, LockstepWaitsForEveryClientTakingPart) {
+  Rig rig(/*lockstep=*/true);
+  rig.send(1, 0.0, 0, 1);
+  rig.send(1, 0.0, 1, 2);
+  EXPECT_TRUE(rig.stepper.lockstepReady());
+  ASSERT_TRUE(rig.stepper.step());
+  rig.ring.endRead();
+  rig.send(2, 0.0, 0, 1);  // client 2's next has not come yet
+  EXPECT_FALSE(rig.stepper.lockstepReady()) << "waits for client 2";
+  rig.send(2, 0.0, 1, 2);
+  EXPECT_TRUE(rig.stepper.lockstepReady());
+  ASSERT_TRUE(rig.stepper.step());
+  const Snapshot* s = rig.ring.beginRead();
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->outcome.nhands, 2) << "one input from each";
+  rig.ring.endRead();
+  // A client that went quiet holds the steps back for kLockstepWaitS at most.
+  rig.send(3, 0.0, 0, 1);
+  EXPECT_FALSE(rig.stepper.lockstepReady());
+  const double until = monotonicSeconds() + Stepper::kLockstepWaitS + 0.005;
+  while (monotonicSeconds() < until) {
+  }
+  EXPECT_TRUE(rig.stepper.lockstepReady());
+  ASSERT_TRUE(rig.stepper.step());
+  s = rig.ring.beginRead();
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->outcome.nhands, 1) << "only client 1's, client 2 had none waiting";
+  rig.ring.endRead();
+}
+
+TEST(InputGate, AnOrientationIsCheckedOnlyWhenTheInputHasOne) {
+  Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  InputGate gate(sim.model(), 5);
+  haptic_input_t m{};
+  m.session_token = 5;
+  m.client_id = 1;
+  m.tip_radius = 0.01;
+  m.tip_orientation[0] = 2.0;  // not a unit quaternion, but unread: no orientation
+  InteractionInput out;
+  RejectReason why;
+  m.seq = 1;
+  EXPECT_TRUE(gate.admit(m, &out, &why));
+  EXPECT_FALSE(out.has_orientation);
+  m.has_orientation = true;
+  m.seq = 2;
+  EXPECT_FALSE(gate.admit(m, &out, &why));
+  EXPECT_EQ(why, RejectReason::Range);
+  m.tip_orientation[0] = 1.0;
+  m.attach_orientation[0] = NAN;
+  m.seq = 3;
+  EXPECT_FALSE(gate.admit(m, &out, &why));
+  EXPECT_EQ(why, RejectReason::NonFinite);
+  m.attach_orientation[0] = 0.0;
+  m.attach_orientation[3] = 1.0;  // 180 degrees about z
+  m.tip_angular_velocity[1] = 2.0;
+  m.seq = 4;
+  ASSERT_TRUE(gate.admit(m, &out, &why));
+  EXPECT_TRUE(out.has_orientation);
+  EXPECT_NEAR(out.attach_orientation.z(), 1.0, 1e-12);
+  EXPECT_NEAR(out.tip_angular_velocity.y(), 2.0, 1e-12);
+  ASSERT_EQ(gate.clients().size(), 1u);
+  EXPECT_EQ(gate.clients()[0].admitted, 2);
+  EXPECT_EQ(gate.clients()[0].rejected, 2);
+}
+
+// A fifth client while four hands are active is refused and counted (hands_full), against its own
+// record; the four keep their slots. (memq://: LCM in process, no socket.)
+TEST(BusReceiver, AFifthHandIsRefusedWhileFourAreActive) {
+  Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  lcm::LCM bus("memq://");
+  ASSERT_TRUE(bus.good());
+  BusReceiver receiver(bus);
+  receiver.startSession(sim.model(), 5);
+  std::vector<uint8_t> buffer(4096);
+  auto send = [&](int32_t client, int64_t seq) {
+    haptic_input_t m{};
+    m.session_token = 5;
+    m.client_id = client;
+    m.seq = seq;
+    m.tip_radius = 0.01;
+    m.tip_orientation[0] = m.attach_orientation[0] = 1.0;
+    const int n = m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
+    lcm::ReceiveBuffer rbuf{buffer.data(), static_cast<uint32_t>(n), 0};
+    receiver.onInput(&rbuf, "IGMS_HAPTIC_INPUT");
+  };
+  for (int32_t c = 1; c <= 5; ++c) send(c, 1);
+  const BusCounters counters = receiver.counters();
+  EXPECT_EQ(counters.rejected_by_reason[static_cast<size_t>(RejectReason::HandsFull)], 1);
+  std::vector<int32_t> seated;
+  TimedInput in;
+  for (const auto& slot : receiver.hands())
+    if (slot.read(&in) > 0) seated.push_back(in.input.client);
+  EXPECT_EQ(seated, (std::vector<int32_t>{1, 2, 3, 4}));
+  const std::vector<ClientRecord> clients = receiver.clients();
+  ASSERT_EQ(clients.size(), 5u);
+  EXPECT_EQ(clients[4].id, 5);
+  EXPECT_EQ(clients[4].rejected, 1);
+  EXPECT_EQ(clients[4].admitted, 0);
+  send(2, 2);  // a seated client goes on in its own slot
+  EXPECT_EQ(receiver.counters().inputs_rejected, 1);
 }
 
 // Loss is visible: inputs that never arrived show as gaps in each client's seq

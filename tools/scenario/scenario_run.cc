@@ -41,6 +41,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     const DeviceReading r = device ? device->read(t) : DeviceReading{};
     const WorkspaceMap map{scene.workspace_scale, scene.workspace_offset};
     const Vector3 tip = map.toScene(r.position), tip_velocity = map.scale * r.velocity;
+    client.setOrientation(r.has_orientation, r.orientation, r.angular_velocity);
     client.fillInput(tip, tip_velocity, r.buttons, msg);
     msg.seq = k;
     RejectReason why;
