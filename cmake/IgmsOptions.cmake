@@ -7,6 +7,9 @@ option(IGMS_WITH_WEB "Build the browser view (igms-viewer, the web device): webs
 # -march=native with code that includes KDL headers and links Debian's KDL
 # segfaults (Eigen alignment mismatch): off by default, never on KDL targets.
 option(IGMS_NATIVE "Compile the dynamics library with -march=native" OFF)
+# igms-peer-bench: Pinocchio and MuJoCo from their PyPI wheels (scripts/bench.sh --peers sets both).
+option(IGMS_PEER_BENCH "Build igms-peer-bench (needs PyPI pin and mujoco in IGMS_PEER_SITE)" OFF)
+set(IGMS_PEER_SITE "" CACHE PATH "The site-packages folder holding PyPI pin and mujoco (for IGMS_PEER_BENCH)")
 
 # What is built and what is left out, collected across directories.
 function(igms_built what)

@@ -1,10 +1,23 @@
 #!/usr/bin/env bash
 # Benchmarks: igms vs KDL in one run (medians and ratios), then igms-dyn bench
 # per model. Results also go to out/bench/.
+#   scripts/bench.sh [igms-bench options]
+#   scripts/bench.sh --peers [--rounds N] [--robots a,b]   igms vs Pinocchio and MuJoCo (PyPI pin and
+#       mujoco in .venv-peers, igms-peer-bench built in build-peers/), interleaved rounds, ratios
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
 mkdir -p out/bench
+if [[ ${1:-} == --peers ]]; then
+  shift
+  site=$(scripts/peer_env.sh)
+  cmake -S . -B build-peers -G Ninja -DCMAKE_BUILD_TYPE=Release -DIGMS_PEER_BENCH=ON -DIGMS_PEER_SITE="$site" \
+    -DIGMS_BUILD_TESTS=OFF -DIGMS_WITH_WEB=OFF >out/bench/peers.configure.log 2>&1 ||
+    { echo "bench.sh: configuring the peer benchmark failed (out/bench/peers.configure.log)" >&2; exit 1; }
+  cmake --build build-peers --target igms-peer-bench >/dev/null
+  /usr/bin/python3 bench/peer_table.py build build-peers --json out/bench/peers.json "$@" | tee out/bench/peers.txt
+  exit "${PIPESTATUS[0]}"
+fi
 build/bench/igms-bench --json out/bench/igms_vs_kdl.json "$@" | tee out/bench/igms_vs_kdl.txt
 for m in puma560.urdf arm7.urdf; do build/tools/igms-dyn bench --model models/$m; done | tee out/bench/igms_dyn.txt
 build/tools/igms-dyn bench --model models/quadruped.urdf --floating-base | tee -a out/bench/igms_dyn.txt

@@ -204,19 +204,40 @@ int bench(const Model& model, bool json, std::ostream& out) {
   };
   JsonWriter w;
   w.beginObject();
+  w.key("jacobian_frame").string(model.frames[static_cast<size_t>(frame)].name);
   if (!json) {
     out << "igms-dyn bench: " << (model.name.empty() ? model.source : model.name) << " (nq " << model.nq << ", nv "
         << model.nv << ", bodies " << model.nb << "), median microseconds per call\n";
   }
+  auto report = [&](const char* name, double us) {
+    w.key(name).number(us);
+    if (!json) {
+      char line[96];
+      std::snprintf(line, sizeof line, "  %-12s %10.3f\n", name, us);
+      out << line;
+    }
+  };
+  double fd_us = 0.0, aba_us = 0.0;
   for (const auto& c : cases) {
     if (model.nv == 0) break;
     const double us = medianMicroseconds(c.call, states);
-    w.key(c.name).number(us);
-    if (!json) {
-      char line[96];
-      std::snprintf(line, sizeof line, "  %-12s %10.3f\n", c.name, us);
-      out << line;
-    }
+    if (std::string(c.name) == "fd_us") fd_us = us;
+    if (std::string(c.name) == "aba_us") aba_us = us;
+    report(c.name, us);
+  }
+  if (model.nv > 0) {
+    // One 1 ms semi-implicit Euler step through the faster forward dynamics of the two, as a peer's bare step.
+    const bool use_aba = aba_us < fd_us;
+    VectorX v_next(model.nv), q_next(model.nq);
+    report("step_us", medianMicroseconds(
+                          [&](int k) {
+                            if (use_aba) aba(model, data, q[k], v[k], tau[k]);
+                            else forwardDynamics(model, data, q[k], v[k], tau[k]);
+                            v_next = v[k] + 0.001 * data.qdd;
+                            integrateConfiguration(model, q[k], v_next, 0.001, q_next);
+                            sink = sink + q_next[0];
+                          },
+                          states));
   }
   w.endObject();
   if (json) out << w.str() << '\n';
