@@ -21,12 +21,9 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <functional>
-#include <map>
-#include <memory>
 #include <random>
 #include <regex>
 #include <sstream>
@@ -44,11 +41,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/cli/command_line.h"
+#include "tools/igms_dyn/median_time.h"
 #include "tools/synthetic/random_urdf.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 volatile double g_sink = 0.0;
 constexpr int kStates = 64;  // as igms-dyn bench
 constexpr double kDt = 0.001;
@@ -65,26 +62,6 @@ std::string readText(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-// Median over samples of the mean time of one call, in microseconds: igms-dyn bench's sampling.
-double medianMicroseconds(const std::function<void(int)>& call) {
-  int per_sample = 1;
-  for (;;) {
-    const auto t0 = Clock::now();
-    for (int k = 0; k < per_sample; ++k) call(k % kStates);
-    const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-    if (us > 50.0 || per_sample > (1 << 20)) break;
-    per_sample *= 2;
-  }
-  std::vector<double> samples;
-  for (int s = 0; s < 301; ++s) {
-    const auto t0 = Clock::now();
-    for (int k = 0; k < per_sample; ++k) call((s + k) % kStates);
-    samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / per_sample);
-  }
-  std::nth_element(samples.begin(), samples.begin() + static_cast<long>(samples.size() / 2), samples.end());
-  return samples[samples.size() / 2];
 }
 
 // MuJoCo's URDF importer, dynamics only: no geometry (its meshes may be formats it cannot read), inertias
@@ -245,8 +222,8 @@ nlohmann::json benchRobot(const std::string& path, bool floating, const std::str
   out["jacobian_frame"] = {{"pinocchio", pm.frames[pframe].name},
                            {"mujoco", mbody_named ? std::string(frame_name) : std::string(mj_id2name(mm, mjOBJ_BODY, mbody))}};
   for (const auto& c : cases) {
-    pin[c.name] = medianMicroseconds(c.pin);
-    mj[c.name] = medianMicroseconds(c.mj);
+    pin[c.name] = igms::dyn::medianMicroseconds(c.pin, kStates);
+    mj[c.name] = igms::dyn::medianMicroseconds(c.mj, kStates);
   }
   out["model"] = path;
   out["nq"] = pm.nq;

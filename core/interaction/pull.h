@@ -18,6 +18,14 @@
 
 namespace igms {
 
+// Scales x down to length max when it is longer. \return whether it did.
+inline bool capLength(Vector3& x, double max) {
+  const double n = x.norm();
+  if (n <= max) return false;
+  x *= max / n;
+  return true;
+}
+
 struct PullForce {
   Vector3 on_robot = Vector3::Zero();  // N, world
   bool stretch_capped = false;
@@ -28,18 +36,9 @@ inline PullForce pullForce(double k, double b, double max_stretch, double max_fo
                            const Vector3& xd_ph, const Vector3& x, const Vector3& xd) {
   PullForce out;
   Vector3 stretch = x_ph - x;
-  const double len = stretch.norm();
-  if (len > max_stretch) {
-    stretch *= max_stretch / len;
-    out.stretch_capped = true;
-  }
-  Vector3 F = k * stretch + b * (xd_ph - xd);
-  const double n = F.norm();
-  if (n > max_force) {
-    F *= max_force / n;
-    out.clamped = true;
-  }
-  out.on_robot = F;
+  out.stretch_capped = capLength(stretch, max_stretch);
+  out.on_robot = k * stretch + b * (xd_ph - xd);
+  out.clamped = capLength(out.on_robot, max_force);
   return out;
 }
 
@@ -60,18 +59,9 @@ inline PullTorque pullTorque(double k_rot, double b_rot, double max_angle, doubl
                              const Vector3& w_ph, const Matrix3& R, const Vector3& w) {
   PullTorque out;
   Vector3 e = rotationLog(R_ph * R.transpose());
-  const double angle = e.norm();
-  if (angle > max_angle) {
-    e *= max_angle / angle;
-    out.angle_capped = true;
-  }
-  Vector3 T = k_rot * e + b_rot * (w_ph - w);
-  const double n = T.norm();
-  if (n > max_torque) {
-    T *= max_torque / n;
-    out.clamped = true;
-  }
-  out.on_robot = T;
+  out.angle_capped = capLength(e, max_angle);
+  out.on_robot = k_rot * e + b_rot * (w_ph - w);
+  out.clamped = capLength(out.on_robot, max_torque);
   return out;
 }
 

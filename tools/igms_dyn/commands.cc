@@ -17,6 +17,7 @@
 #include "core/kinematics/jacobian.h"
 #include "core/model/configuration.h"
 #include "tools/igms_dyn/json_io.h"
+#include "tools/igms_dyn/median_time.h"
 
 namespace igms::dyn {
 
@@ -157,32 +158,6 @@ int eval(const Model& model, std::istream& in, std::ostream& out, std::ostream& 
   if (failed) err << "igms-dyn eval: " << failed << " line(s) failed\n";
   return failed ? 1 : 0;
 }
-
-namespace {
-
-// Median over samples of the mean time of one call, in microseconds.
-double medianMicroseconds(const std::function<void(int)>& call, int states) {
-  using clock = std::chrono::steady_clock;
-  // Calls per sample so that a sample lasts about 50 us.
-  int per_sample = 1;
-  for (;;) {
-    const auto t0 = clock::now();
-    for (int k = 0; k < per_sample; ++k) call(k % states);
-    const double us = std::chrono::duration<double, std::micro>(clock::now() - t0).count();
-    if (us > 50.0 || per_sample > (1 << 20)) break;
-    per_sample *= 2;
-  }
-  std::vector<double> samples;
-  for (int s = 0; s < 301; ++s) {
-    const auto t0 = clock::now();
-    for (int k = 0; k < per_sample; ++k) call((s + k) % states);
-    samples.push_back(std::chrono::duration<double, std::micro>(clock::now() - t0).count() / per_sample);
-  }
-  std::nth_element(samples.begin(), samples.begin() + samples.size() / 2, samples.end());
-  return samples[samples.size() / 2];
-}
-
-}  // namespace
 
 int bench(const Model& model, bool json, std::ostream& out) {
   Data data(model);
