@@ -1,19 +1,20 @@
 // Simulation: the paper's "Steps for Interactive Simulation", one step at a time.
 //
-//   IF there is haptic input (push or pull):
+//   IF there is haptic input (push or pull, from one hand or several):
 //     the controller holds gravity and Coriolis compensation plus damping, and
-//     the user's force enters the forward dynamics: U_E = J^T c (push, eq. 3)
-//     or tau = J^T F (pull, eq. 4), computed here from the device state
-//     against the exact robot state;
+//     each hand's force enters the forward dynamics, summed: U_E = J^T c (push,
+//     eq. 3) or tau = J^T F (pull, eq. 4; F a force and, for a device with an
+//     orientation, a torque), computed here from the device state against the
+//     exact robot state;
 //   ELSE:
 //     the trajectory point to follow, computed-torque control by inverse
 //     dynamics (PD on the error), accelerations by forward dynamics (eq. 2);
 //   update the state (the scene's integrator).
 // When an interaction ends, a new C2 (quintic) trajectory starts from the
 // current q, v, qdd toward the goal. When an interaction comes back after a
-// gap (the loop stopped for over 20 ms, 20 steps without an input, or the
-// client's seq jumping by more than 100: a stalled server, a stalled client,
-// inputs lost), the user's coupling is brought back in over 100 ms instead
+// gap (the loop stopped for over 20 ms, 20 steps without an input from that
+// client, or its seq jumping by more than 100: a stalled server, a stalled
+// client, inputs lost), that hand's coupling is brought back in over 100 ms instead
 // of as one step: the push the hand stored up meanwhile reaches the robot as
 // a ramp. The rule reads the inputs and the states' timing only, so
 // re-simulating a log reproduces it. The executed motion is recorded as the

@@ -179,10 +179,9 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
   resync_ = false;
   device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
-  const DeviceLimits& limits = device_limits_;
-  const Vector3 torque = interaction_.renderTorque(interaction_.userTorque(), period_, limits.max_torque,
-                                                   limits.max_torque_step, render_limits_.passivity);
-  if (limits.max_torque > 0.0) device_.writeTorque(torque);
+  const Vector3 torque = interaction_.renderTorque(interaction_.userTorque(), period_, device_limits_.max_torque,
+                                                   device_limits_.max_torque_step, render_limits_.passivity);
+  if (device_limits_.max_torque > 0.0) device_.writeTorque(torque);
   for (int i = 0; i < 3; ++i) stats_.torque[i] = torque[i];
   stats_.max_force_step = interaction_.maxForceStep();
   stats_.slew_limited = interaction_.slewLimited();
