@@ -36,8 +36,14 @@ def main():
             check(r["max_force_step_N"] is not None and r["max_force_step_N"] <= 1.0 + 1e-9,
                   f"largest force step {r['max_force_step_N']} N <= 1 N")
             check(not r["server_lost"], "the server was never declared lost")
-            check(r["state_age_p99_ms"] is not None and r["state_age_p99_ms"] < r["delay_ms"] + r["jitter_ms"] + 5,
-                  f"state age p99 {r['state_age_p99_ms']} ms is the path's delay, not a pile-up")
+            # A pile-up (states queued behind each other, e.g. LCM's 30-deep queue read oldest first) ages every
+            # state: it shows in the median. Measured idle: p50 1.1 ms at 0 ms, 13.2 at 20 +-10 (the newest of
+            # jittered states), 4.2 at 5 +-2.5. A stall of the whole machine ages only the states around it: the
+            # p99 allows it (a clean-clone CI run on a loaded 2-core VM saw p99 21 ms at 0 ms delay, p50 not shown).
+            check(r["state_age_p50_ms"] is not None and r["state_age_p50_ms"] < r["delay_ms"] + 3,
+                  f"state age p50 {r['state_age_p50_ms']} ms is the path's delay, not a pile-up")
+            check(r["state_age_p99_ms"] is not None and r["state_age_p99_ms"] < r["delay_ms"] + r["jitter_ms"] + 25,
+                  f"state age p99 {r['state_age_p99_ms']} ms within the path's delay and jitter + 25 ms of stalls")
             # No energy made by delay: the balance stays near the zero-delay push's -17 mJ (the robot handing back
             # its own motion); the controller holds it at -25 mJ, and its 1 N cap may let a cycle's worth past.
             check(r["lowest_energy_mJ"] is not None and r["lowest_energy_mJ"] >= -30.0,
