@@ -17,7 +17,8 @@ bool aba(const Model& model, Data& data, const VectorX& q, const VectorX& v, con
          const std::vector<Force>* fext) {
   const Motion a_world{-model.gravity, Vector3::Zero()};
   for (int i = 0; i < model.nb; ++i) {
-    const SE3& X = data.liMi[i] = jointPlacement(model, i, q);
+    placeJoint(model, i, q, data.liMi[i]);
+    const SE3& X = data.liMi[i];
     const Motion vJ = jointMotion(model, i, v);
     const int p = model.parent[i];
     if (p < 0) {

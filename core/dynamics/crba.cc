@@ -10,37 +10,53 @@
 namespace igms {
 
 const MatrixX& crba(const Model& model, Data& data, const VectorX& q) {
-  for (int i = 0; i < model.nb; ++i) data.liMi[i] = jointPlacement(model, i, q);
+  for (int i = 0; i < model.nb; ++i) placeJoint(model, i, q, data.liMi[i]);
   return crbaAtPlacements(model, data);
 }
 
 const MatrixX& crbaAtPlacements(const Model& model, Data& data) {
+  crbaUpperAtPlacements(model, data);
+  data.H.triangularView<Eigen::StrictlyLower>() = data.H.transpose();
+  return data.H;
+}
+
+void crbaUpperAtPlacements(const Model& model, Data& data) {
   // World poses, world inertias, world motion subspaces.
   for (int i = 0; i < model.nb; ++i) {
     const int p = model.parent[i];
-    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
-    data.Ic[i] = model.inertia[i].transformedBy(data.oMi[i]);
-    for (int k = 0; k < model.joint_nv[i]; ++k)
-      data.S_world[model.v_index[i] + k] = data.oMi[i].act(subspaceColumn(model, i, k));
+    const SE3& oMi = data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+    model.inertia[i].transformInto(oMi, data.Ic[i]);
+    auto S = data.S_world.middleCols(model.v_index[i], model.joint_nv[i]);
+    switch (model.joint_type[i]) {
+      case JointType::Revolute: {
+        const Vector3 w = oMi.R * model.axis[i];
+        S.col(0) << oMi.p.cross(w), w;
+        break;
+      }
+      case JointType::Prismatic: S.col(0) << oMi.R * model.axis[i], Vector3::Zero(); break;
+      case JointType::Floating:
+        for (int k = 0; k < 6; ++k) S.col(k) = oMi.act(subspaceColumn(model, i, k)).toVector();
+        break;
+    }
   }
   // Composite inertias: children add into parents.
   for (int i = model.nb - 1; i >= 0; --i)
     if (model.parent[i] >= 0) data.Ic[model.parent[i]] += data.Ic[i];
 
-  MatrixX& H = data.H;
+  // Column c of the upper triangle: S_j^T (Ic S_c) for c's own dof and every ancestor dof j. The
+  // ancestors come in runs of consecutive dofs (chain segments), each one small matrix product
+  // into contiguous rows of the column.
   for (int i = model.nb - 1; i >= 0; --i) {
-    const int ci = model.v_index[i];
     for (int k = 0; k < model.joint_nv[i]; ++k) {
-      const Force F = data.Ic[i] * data.S_world[ci + k];
-      // H_ji for every dof j of body i and of its ancestors.
-      for (int j = i; j >= 0; j = model.parent[j]) {
-        const int cj = model.v_index[j];
-        const int nj = j == i ? k + 1 : model.joint_nv[j];
-        for (int r = 0; r < nj; ++r) H(cj + r, ci + k) = H(ci + k, cj + r) = F.dot(data.S_world[cj + r]);
+      const int c = model.v_index[i] + k;
+      const Vector6 F = (data.Ic[i] * Motion::fromVector(data.S_world.col(c))).toVector();
+      for (int j = c; j >= 0;) {
+        const int r = model.dof_run_start[j];
+        data.H.col(c).segment(r, j - r + 1).noalias() = data.S_world.middleCols(r, j - r + 1).transpose() * F;
+        j = model.dof_parent[r];
       }
     }
   }
-  return H;
 }
 
 }  // namespace igms

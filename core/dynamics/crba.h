@@ -12,4 +12,8 @@ const MatrixX& crba(const Model& model, Data& data, const VectorX& q);
 // The same with data.liMi already at q (as rnea or bias leave it).
 const MatrixX& crbaAtPlacements(const Model& model, Data& data);
 
+// Only the upper triangle of data.H (with the diagonal), the part the LDL^T
+// factorisation reads; the strictly lower part is left as it was.
+void crbaUpperAtPlacements(const Model& model, Data& data);
+
 }  // namespace igms

@@ -9,9 +9,10 @@ namespace igms {
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext) {
   const VectorX& b = bias(model, data, q, v, fext);  // C v + G - U_E
-  crbaAtPlacements(model, data);                     // H, at the placements bias left
+  crbaUpperAtPlacements(model, data);                // H, at the placements bias left
   data.rhs = tau - b;                                // U + U_E - C - G
-  data.Hfact = data.H;
+  // The factorisation reads and writes the upper triangle only: no mirror, no full copy.
+  data.Hfact.triangularView<Eigen::Upper>() = data.H;
   data.singular_dof = ltdlFactor(model.dof_parent, model.dof_run_start, data.Hfact, data.diag);
   if (data.singular_dof >= 0) return false;
   ltdlSolve(model.dof_parent, data.Hfact, data.rhs);

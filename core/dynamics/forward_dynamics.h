@@ -11,8 +11,9 @@
 namespace igms {
 
 // \return true and data.qdd; false when H is singular at q (a joint moves no
-// mass), with data.singular_dof naming the dof. data.H keeps H, data.Hfact its
-// factors, data.bias holds C v + G - U_E.
+// mass), with data.singular_dof naming the dof. data.H keeps H's upper triangle
+// (the lower part is stale: use H.selfadjointView<Eigen::Upper>()), data.Hfact
+// its factors, data.bias holds C v + G - U_E.
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext = nullptr);
 

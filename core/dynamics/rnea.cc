@@ -22,7 +22,8 @@ void rneaPasses(const Model& model, Data& data, const VectorX& q, const VectorX&
   const Motion a_world{-model.gravity, Vector3::Zero()};
   // Outward iteration: velocities and accelerations from the base to the leaves.
   for (int i = 0; i < model.nb; ++i) {
-    const SE3& X = data.liMi[i] = jointPlacement(model, i, q);
+    placeJoint(model, i, q, data.liMi[i]);
+    const SE3& X = data.liMi[i];
     const Motion vJ = jointMotion(model, i, v);
     const int p = model.parent[i];
     Motion& vi = data.v[i];

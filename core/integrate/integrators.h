@@ -13,7 +13,8 @@
 //   void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs);
 //       A = H + h D + h^2 K, rhs = h (F - h K v), where F = H qdd and
 //       K = -dF/dq, D = -dF/dv of the stiff terms (couplings, joint damping),
-//       symmetric, within H's sparsity.
+//       symmetric, within H's sparsity; only the upper triangle is read (the
+//       factorisation's), so an evaluator may leave the lower one stale.
 // Every scheme leaves the evaluation at the step's start state in
 // scratch.start: that is what a step reports (acceleration, force), never
 // whatever a later stage left behind.

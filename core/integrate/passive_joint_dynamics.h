@@ -36,7 +36,7 @@ class PassiveJointDynamics {
   }
 
   void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) const {
-    A = d_.H;
+    A.triangularView<Eigen::Upper>() = d_.H;  // forwardDynamics leaves H's upper triangle
     rhs = h * at.F;
     for (int i = 0; i < m_.nv; ++i) {
       A(i, i) += h * (damping_ ? m_.damping[i] : 0.0) + h * h * k_;

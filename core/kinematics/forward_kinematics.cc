@@ -6,7 +6,7 @@ namespace igms {
 
 void bodyKinematics(const Model& model, Data& data, const VectorX& q) {
   for (int i = 0; i < model.nb; ++i) {
-    data.liMi[i] = jointPlacement(model, i, q);
+    placeJoint(model, i, q, data.liMi[i]);
     const int p = model.parent[i];
     data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
   }

@@ -22,7 +22,15 @@ void pointJacobian(const Model& model, const Data& data, int frame, const Vector
 }
 
 void frameJacobian(const Model& model, Data& data, const VectorX& q, int frame, Matrix6X& J) {
-  bodyKinematics(model, data, q);
+  // Only the frame's support moves it: on a humanoid's hand that is 8 of 32 bodies.
+  int depth = 0;
+  for (int j = model.frame(frame).body; j >= 0; j = model.parent[j]) data.support[depth++] = j;
+  while (depth > 0) {
+    const int i = data.support[--depth];
+    placeJoint(model, i, q, data.liMi[i]);
+    const int p = model.parent[i];
+    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+  }
   pointJacobian(model, data, frame, Vector3::Zero(), J);
 }
 
@@ -31,7 +39,7 @@ Vector6 pointBiasAcceleration(const Model& model, Data& data, const VectorX& q, 
   const Frame& fr = model.frame(frame);
   // Outward pass with qdd = 0 and no gravity: a_i = X a_p + v_i x vJ.
   for (int i = 0; i <= fr.body; ++i) {
-    data.liMi[i] = jointPlacement(model, i, q);
+    placeJoint(model, i, q, data.liMi[i]);
     const int p = model.parent[i];
     const Motion vJ = jointMotion(model, i, v);
     if (p < 0) {

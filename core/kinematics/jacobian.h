@@ -13,7 +13,8 @@ namespace igms {
 // not move the frame are zero.
 void pointJacobian(const Model& model, const Data& data, int frame, const Vector3& point_in_frame, Matrix6X& J);
 
-// J (6 x nv) of frame f's origin, kinematics included.
+// J (6 x nv) of frame f's origin, kinematics included: the poses of the bodies
+// that support the frame (its body and that body's ancestors), no others.
 void frameJacobian(const Model& model, Data& data, const VectorX& q, int frame, Matrix6X& J);
 
 // Jdot v of a point of frame f: the point's classical acceleration (linear) and

@@ -13,7 +13,7 @@ Data::Data(const Model& m)
       tau(VectorX::Zero(m.nv)),
       bias(VectorX::Zero(m.nv)),
       Ic(m.nb),
-      S_world(m.nv),
+      S_world(Matrix6X::Zero(6, m.nv)),
       H(MatrixX::Zero(m.nv, m.nv)),
       Hfact(MatrixX::Zero(m.nv, m.nv)),
       qdd(VectorX::Zero(m.nv)),
@@ -25,6 +25,7 @@ Data::Data(const Model& m)
       U(Matrix6X::Zero(6, m.nv)),
       Dinv(VectorX::Zero(m.nv)),
       u(VectorX::Zero(m.nv)),
-      J(Matrix6X::Zero(6, m.nv)) {}
+      J(Matrix6X::Zero(6, m.nv)),
+      support(m.nb) {}
 
 }  // namespace igms

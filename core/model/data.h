@@ -31,7 +31,7 @@ struct Data {
 
   // crba and the factorisation of H (sparse LDL^T along the tree).
   std::vector<SpatialInertia> Ic;  // crba: composite inertia of the subtree, world axes
-  std::vector<Motion> S_world;     // crba: motion subspace of every dof, world axes
+  Matrix6X S_world;                // crba: motion subspace of every dof, world axes, rows [v; w]
   MatrixX H;                       // joint-space inertia (upper and lower filled)
   MatrixX Hfact;                   // L^T D L factors of H, same sparsity
   VectorX qdd;                     // forward dynamics result
@@ -48,6 +48,7 @@ struct Data {
 
   // Jacobians.
   Matrix6X J;                // 6 x nv frame Jacobian scratch
+  std::vector<int> support;  // frameJacobian: the bodies from the frame's up to the root
 };
 
 }  // namespace igms

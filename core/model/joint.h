@@ -10,33 +10,63 @@
 
 namespace igms {
 
-// Body i in its parent body frame for coordinates q (iR_p^T and iP_i).
+namespace detail {
+// out.R = X.R R_K(angle) for a joint about +-e_K, given c = cos, s = sin of the signed angle:
+// columns A = K+1 and B = K+2 (mod 3) turn, column K stays. Indices fixed at compile time, each
+// entry written once.
+template <int K>
+inline void rotateAboutAxis(const Matrix3& R, double c, double s, Matrix3& out) {
+  constexpr int A = (K + 1) % 3, B = (K + 2) % 3;  // R_K(angle) e_A = c e_A + s e_B
+  out.col(K) = R.col(K);
+  out.col(A) = c * R.col(A) + s * R.col(B);
+  out.col(B) = c * R.col(B) - s * R.col(A);
+}
+}  // namespace detail
+
+// Body i in its parent body frame for coordinates q (iR_p^T and iP_i), written
+// into out (in place: a returned pose copied into Data read back stores the
+// CPU had not finished, a measurable stall on every joint).
 template <typename Q>
-inline SE3 jointPlacement(const Model& m, int i, const Q& q) {
+inline void placeJoint(const Model& m, int i, const Q& q, SE3& out) {
   const SE3& X = m.X_tree[i];
   const int iq = m.q_index[i];
   switch (m.joint_type[i]) {
     case JointType::Revolute: {
       // Axis-aligned joints (most robots) rotate two columns of X.R only.
       const int k = m.axis_aligned[i];
-      if (k < 0) return {X.R * Eigen::AngleAxisd(q[iq], m.axis[i]).toRotationMatrix(), X.p};
+      out.p = X.p;
+      if (k < 0) {
+        out.R.noalias() = X.R * Eigen::AngleAxisd(q[iq], m.axis[i]).toRotationMatrix();
+        return;
+      }
       const double angle = m.axis[i][k] * q[iq];  // axis is +-e_k
       const double c = std::cos(angle), s = std::sin(angle);
-      const int a = (k + 1) % 3, b = (k + 2) % 3;  // R_k(angle) e_a = c e_a + s e_b
-      SE3 out{X.R, X.p};
-      out.R.col(a) = c * X.R.col(a) + s * X.R.col(b);
-      out.R.col(b) = c * X.R.col(b) - s * X.R.col(a);
-      return out;
+      if (k == 0) detail::rotateAboutAxis<0>(X.R, c, s, out.R);
+      else if (k == 1) detail::rotateAboutAxis<1>(X.R, c, s, out.R);
+      else detail::rotateAboutAxis<2>(X.R, c, s, out.R);
+      return;
     }
     case JointType::Prismatic:
-      return {X.R, X.p + X.R * (m.axis[i] * q[iq])};
+      out.R = X.R;
+      out.p = X.p + X.R * (m.axis[i] * q[iq]);
+      return;
     case JointType::Floating: {
       Eigen::Quaterniond quat(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]);  // w first
       quat.normalize();
-      return {quat.toRotationMatrix(), Vector3(q[iq], q[iq + 1], q[iq + 2])};
+      out.R = quat.toRotationMatrix();
+      out.p = Vector3(q[iq], q[iq + 1], q[iq + 2]);
+      return;
     }
   }
-  return X;
+  out = X;
+}
+
+// The same, returned.
+template <typename Q>
+inline SE3 jointPlacement(const Model& m, int i, const Q& q) {
+  SE3 out;
+  placeJoint(m, i, q, out);
+  return out;
 }
 
 // S_i qdot_i: the joint's contribution to the body velocity, body coordinates.

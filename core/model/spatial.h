@@ -116,11 +116,17 @@ struct SpatialInertia {
   //   Io' = R Io R^T - [p]x[Rh]x - [Rh]x[p]x - m [p]x[p]x, with
   //   [a]x[b]x = b a^T - (a.b) 1, so the shift is a few rank-one updates.
   SpatialInertia transformedBy(const SE3& M) const {
+    SpatialInertia out;
+    transformInto(M, out);
+    return out;
+  }
+  // The same written into out (in place, as SE3::compose; out must not be this).
+  void transformInto(const SE3& M, SpatialInertia& out) const {
     const Vector3 a = M.R * h;
     const Vector3& p = M.p;
     const Matrix3 T = M.R * Io;  // then R Io R^T = T R^T, symmetric: six entries
     const double diag = 2.0 * a.dot(p) + m * p.squaredNorm();
-    Matrix3 I;
+    Matrix3& I = out.Io;
     for (int r = 0; r < 3; ++r)
       for (int c = r; c < 3; ++c) {
         const double v = T.row(r).dot(M.R.row(c)) - a[r] * p[c] - p[r] * a[c] - m * p[r] * p[c];
@@ -128,7 +134,8 @@ struct SpatialInertia {
         I(c, r) = v;
       }
     I.diagonal().array() += diag;
-    return {m, a + m * p, I};
+    out.m = m;
+    out.h = a + m * p;
   }
 
   Matrix6 matrix() const {

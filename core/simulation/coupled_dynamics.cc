@@ -98,17 +98,18 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   out.qdd = data_.qdd;
   if (in.hold_rate > 0.0) {
     // -c H v: H^-1 of it is exactly -c v.
-    out.F.noalias() -= in.hold_rate * (data_.H * v);
+    out.F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
     out.qdd -= in.hold_rate * v;
   }
 }
 
 void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h,
                                    MatrixX& A, VectorX& rhs) {
-  A = data_.H;
+  // Upper triangles only, as forwardDynamics leaves H and as ltdlFactor reads A.
+  A.triangularView<Eigen::Upper>() = data_.H;
   rhs = h * at.F;
   if (scene_.joint_damping) A.diagonal() += h * jointDamping(model_);
-  if (in.hold_rate > 0.0) A += (h * in.hold_rate) * data_.H;
+  if (in.hold_rate > 0.0) A.triangularView<Eigen::Upper>() += (h * in.hold_rate) * data_.H;
   if (!limits_.empty()) {
     // The limits' -k d - b s, implicitly: A += h b + h^2 k, rhs -= h^2 k v (zero where none acts).
     A.diagonal() += h * at.limit_b + (h * h) * at.limit_k;
@@ -125,9 +126,13 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
     Vector6 KJv;
     KJv.head<3>() = (h * h) * (u.K * (J_.topRows<3>() * v));
     KJv.tail<3>() = (h * h * u.k_rot) * (J_.bottomRows<3>() * v);
-    for (int c = 0; c < model_.nv; ++c) {
+    // J's non-zero columns are the dofs that move the point (its body's and their ancestors', a
+    // chain up dof_parent): on a humanoid's hand 14 of 38, and A's upper triangle only.
+    const int body = model_.frame(u.frame).body;
+    if (body < 0) continue;
+    for (int c = model_.v_index[body] + model_.joint_nv[body] - 1; c >= 0; c = model_.dof_parent[c]) {
       rhs[c] -= J_.col(c).dot(KJv);
-      for (int r = 0; r < model_.nv; ++r) A(r, c) += J_.col(r).dot(KJ_.col(c));
+      for (int r = c; r >= 0; r = model_.dof_parent[r]) A(r, c) += J_.col(r).dot(KJ_.col(c));
     }
   }
 }

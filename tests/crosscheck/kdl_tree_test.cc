@@ -5,6 +5,7 @@
 #include <kdl/treefksolverpos_recursive.hpp>
 #include <kdl/treeidsolver_recursive_newton_euler.hpp>
 #include <kdl/treejnttojacsolver.hpp>
+#include <limits>
 
 #include "core/dynamics/external_force.h"
 #include "core/dynamics/rnea.h"
@@ -24,7 +25,7 @@ class KdlTree : public ::testing::TestWithParam<NamedUrdf> {};
 TEST_P(KdlTree, MatchesKdlTreeSolvers) {
   const NamedUrdf& robot = GetParam();
   const Model model = modelFromUrdf(robot.xml);
-  Data data(model);
+  Data data(model), poisoned(model);
   const KdlRobot kdl = kdlFromUrdf(robot.xml);
   ASSERT_EQ(static_cast<int>(kdl.tree.getNrOfJoints()), model.nv);
   const JointMap map = jointMap(model, kdl.q_nr_of_joint);
@@ -34,7 +35,7 @@ TEST_P(KdlTree, MatchesKdlTreeSolvers) {
   KDL::TreeJntToJacSolver jac(kdl.tree);
   std::mt19937 rng(11);
   std::vector<Force> fext(static_cast<size_t>(model.nb));
-  double worst_fk = 0, worst_jac = 0, worst_id = 0;
+  double worst_fk = 0, worst_jac = 0, worst_frame_jac = 0, worst_id = 0;
   for (int s = 0; s < 100; ++s) {
     const VectorX q = randomConfiguration(model, rng);
     const VectorX v = randomVector(model.nv, rng, 2.0);
@@ -53,6 +54,10 @@ TEST_P(KdlTree, MatchesKdlTreeSolvers) {
       pointJacobian(model, data, model.frameIndex(leaf), Vector3::Zero(), data.J);
       // KDL's tree Jacobian is referenced at the tip but expressed... in the base frame.
       worst_jac = std::max(worst_jac, relError(fromKdl(kJ.data, map), data.J));
+      // frameJacobian places the frame's support itself, and nothing else: every pose poisoned first.
+      for (SE3& X : poisoned.oMi) X.p.setConstant(std::numeric_limits<double>::quiet_NaN());
+      frameJacobian(model, poisoned, q, model.frameIndex(leaf), poisoned.J);
+      worst_frame_jac = std::max(worst_frame_jac, relError(fromKdl(kJ.data, map), poisoned.J));
     }
     // External point forces on three random links.
     clearExternalForces(fext);
@@ -74,6 +79,7 @@ TEST_P(KdlTree, MatchesKdlTreeSolvers) {
   }
   EXPECT_LE(worst_fk, kCrossCheckRel) << robot.name;
   EXPECT_LE(worst_jac, kCrossCheckRel) << robot.name;
+  EXPECT_LE(worst_frame_jac, kCrossCheckRel) << robot.name;
   EXPECT_LE(worst_id, kCrossCheckRel) << robot.name;
 }
 
