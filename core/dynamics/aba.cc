@@ -43,7 +43,9 @@ bool aba(const Model& model, Data& data, const VectorX& q, const VectorX& v, con
       continue;
     }
     const Vector6 S = subspaceColumn(model, i, 0).toVector();
-    const Vector6 Ui = data.IA[i] * S;
+    // IA S: a revolute joint's S is [0; axis], three columns of IA.
+    const Vector6 Ui = model.joint_type[i] == JointType::Revolute ? Vector6(data.IA[i].rightCols<3>() * model.axis[i])
+                                                                  : Vector6(data.IA[i] * S);
     const double D = S.dot(Ui);
     if (!(D > 0.0) || !std::isfinite(D)) {
       data.singular_dof = iv;
@@ -53,9 +55,11 @@ bool aba(const Model& model, Data& data, const VectorX& q, const VectorX& v, con
     data.Dinv[iv] = 1.0 / D;
     data.u[iv] = tau[iv] - S.dot(data.pA[i]);
     if (p < 0) continue;
-    const Matrix6 Ia = data.IA[i] - Ui * (Ui.transpose() * data.Dinv[iv]);
+    // Ia = IA - U D^-1 U^T, in place (IA_i is not needed again for a joint with one dof).
+    Matrix6& Ia = data.IA[i];
+    Ia.noalias() -= Ui * (Ui.transpose() * data.Dinv[iv]);
     const Vector6 pa = data.pA[i] + Ia * data.c[i].toVector() + Ui * (data.Dinv[iv] * data.u[iv]);
-    data.IA[p] += transformInertiaToParent(data.liMi[i], Ia);
+    addInertiaToParent(data.liMi[i], Ia, data.IA[p]);
     const Force pa_parent = data.liMi[i].act(Force{pa.head<3>(), pa.tail<3>()});
     data.pA[p] += pa_parent.toVector();
   }

@@ -5,6 +5,8 @@
 // a dot product per entry, with no force carried from body to body.
 #include "core/dynamics/crba.h"
 
+#include <cstddef>
+
 #include "core/model/joint.h"
 
 namespace igms {
@@ -49,10 +51,15 @@ void crbaUpperAtPlacements(const Model& model, Data& data) {
   for (int i = model.nb - 1; i >= 0; --i) {
     for (int k = 0; k < model.joint_nv[i]; ++k) {
       const int c = model.v_index[i] + k;
-      const Vector6 F = (data.Ic[i] * Motion::fromVector(data.S_world.col(c))).toVector();
+      const Force F = data.Ic[i] * Motion{data.S_world.col(c).head<3>(), data.S_world.col(c).tail<3>()};
+      double* const column = data.H.col(c).data();
+      const double* const S = data.S_world.data();  // 6 per dof: [v; w]
       for (int j = c; j >= 0;) {
         const int r = model.dof_run_start[j];
-        data.H.col(c).segment(r, j - r + 1).noalias() = data.S_world.middleCols(r, j - r + 1).transpose() * F;
+        for (int t = r; t <= j; ++t) {
+          const double* s = S + 6 * static_cast<std::ptrdiff_t>(t);
+          column[t] = F.f[0] * s[0] + F.f[1] * s[1] + F.f[2] * s[2] + F.n[0] * s[3] + F.n[1] * s[4] + F.n[2] * s[5];
+        }
         j = model.dof_parent[r];
       }
     }

@@ -6,18 +6,33 @@
 
 namespace igms {
 
-bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
-                     const std::vector<Force>* fext) {
-  const VectorX& b = bias(model, data, q, v, fext);  // C v + G - U_E
-  crbaUpperAtPlacements(model, data);                // H, at the placements bias left
-  data.rhs = tau - b;                                // U + U_E - C - G
+namespace {
+
+// qdd from data.bias, with the placements bias left: H (upper triangle), its factors, the solve.
+bool solveForAcceleration(const Model& model, Data& data, const VectorX& tau) {
+  crbaUpperAtPlacements(model, data);  // H, at the placements bias left
+  data.rhs = tau - data.bias;          // U + U_E - C - G
   // The factorisation reads and writes the upper triangle only: no mirror, no full copy.
   data.Hfact.triangularView<Eigen::Upper>() = data.H;
   data.singular_dof = ltdlFactor(model.dof_parent, model.dof_run_start, data.Hfact, data.diag);
   if (data.singular_dof >= 0) return false;
-  ltdlSolve(model.dof_parent, data.Hfact, data.rhs);
+  ltdlSolve(model.dof_parent, model.dof_run_start, data.Hfact, data.rhs);
   data.qdd = data.rhs;
   return true;
+}
+
+}  // namespace
+
+bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
+                     const std::vector<Force>* fext) {
+  bias(model, data, q, v, fext);  // C v + G - U_E
+  return solveForAcceleration(model, data, tau);
+}
+
+bool forwardDynamicsAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
+                                 const std::vector<Force>* fext) {
+  biasAtPlacements(model, data, v, fext);
+  return solveForAcceleration(model, data, tau);
 }
 
 std::string dofName(const Model& model, int dof) {

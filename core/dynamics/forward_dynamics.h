@@ -17,6 +17,10 @@ namespace igms {
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext = nullptr);
 
+// The same with data.liMi already at q (bodyKinematics placed them).
+bool forwardDynamicsAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
+                                 const std::vector<Force>* fext = nullptr);
+
 // The dof's joint name, for messages about data.singular_dof.
 std::string dofName(const Model& model, int dof);
 

@@ -22,6 +22,6 @@ int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_s
 constexpr double kSingularPivot = 1e-13;
 
 // Solves H x = b in place (b becomes x) with the factors from ltdlFactor.
-void ltdlSolve(const std::vector<int>& dof_parent, const MatrixX& LD, VectorX& b);
+void ltdlSolve(const std::vector<int>& dof_parent, const std::vector<int>& run_start, const MatrixX& LD, VectorX& b);
 
 }  // namespace igms

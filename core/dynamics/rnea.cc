@@ -16,13 +16,14 @@
 namespace igms {
 namespace {
 
+// q: place each joint at q on the way out; nullptr: data.liMi already holds the placements.
 template <bool kHasAcceleration>
-void rneaPasses(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX* a,
+void rneaPasses(const Model& model, Data& data, const VectorX* q, const VectorX& v, const VectorX* a,
                 const std::vector<Force>* fext, VectorX& tau) {
   const Motion a_world{-model.gravity, Vector3::Zero()};
   // Outward iteration: velocities and accelerations from the base to the leaves.
   for (int i = 0; i < model.nb; ++i) {
-    placeJoint(model, i, q, data.liMi[i]);
+    if (q) placeJoint(model, i, *q, data.liMi[i]);
     const SE3& X = data.liMi[i];
     const Motion vJ = jointMotion(model, i, v);
     const int p = model.parent[i];
@@ -53,13 +54,18 @@ void rneaPasses(const Model& model, Data& data, const VectorX& q, const VectorX&
 
 const VectorX& rnea(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& a,
                     const std::vector<Force>* fext) {
-  rneaPasses<true>(model, data, q, v, &a, fext, data.tau);
+  rneaPasses<true>(model, data, &q, v, &a, fext, data.tau);
   return data.tau;
 }
 
 const VectorX& bias(const Model& model, Data& data, const VectorX& q, const VectorX& v,
                     const std::vector<Force>* fext) {
-  rneaPasses<false>(model, data, q, v, nullptr, fext, data.bias);
+  rneaPasses<false>(model, data, &q, v, nullptr, fext, data.bias);
+  return data.bias;
+}
+
+const VectorX& biasAtPlacements(const Model& model, Data& data, const VectorX& v, const std::vector<Force>* fext) {
+  rneaPasses<false>(model, data, nullptr, v, nullptr, fext, data.bias);
   return data.bias;
 }
 

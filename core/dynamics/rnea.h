@@ -20,4 +20,8 @@ const VectorX& rnea(const Model& model, Data& data, const VectorX& q, const Vect
 const VectorX& bias(const Model& model, Data& data, const VectorX& q, const VectorX& v,
                     const std::vector<Force>* fext = nullptr);
 
+// The same with data.liMi already at q (bodyKinematics or another pass at this q placed them).
+const VectorX& biasAtPlacements(const Model& model, Data& data, const VectorX& v,
+                                const std::vector<Force>* fext = nullptr);
+
 }  // namespace igms

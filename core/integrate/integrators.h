@@ -86,7 +86,7 @@ bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, doubl
   f.evaluate(q, v, s.start);
   f.linearSystem(s.start, v, h, s.A, s.rhs);
   if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag) >= 0) return false;
-  ltdlSolve(m.dof_parent, s.A, s.rhs);
+  ltdlSolve(m.dof_parent, m.dof_run_start, s.A, s.rhs);
   v += s.rhs;
   integrateConfiguration(m, q, v, h, q);
   return true;

@@ -156,23 +156,31 @@ inline SE3 fromXyzRpy(const Vector3& xyz, const Vector3& rpy) {
           xyz};
 }
 
-// X^T I X for a 6x6 symmetric inertia I given in B, with M = M_AB: the same
-// articulated inertia expressed in A.
-inline Matrix6 transformInertiaToParent(const SE3& M, const Matrix6& I) {
-  Matrix6 Y;
-  // Rotate the blocks into A's orientation.
-  const Matrix3 A = M.R * I.topLeftCorner<3, 3>() * M.R.transpose();
-  const Matrix3 B = M.R * I.topRightCorner<3, 3>() * M.R.transpose();
-  const Matrix3 C = M.R * I.bottomRightCorner<3, 3>() * M.R.transpose();
-  // Shift the reference point by p: T Y T^T with T = [[1, 0], [P, 1]].
+// Y += X^T I X for a 6x6 symmetric inertia I given in B, with M = M_AB: the same
+// articulated inertia expressed in A, added into Y (in place: no 6x6 returned
+// and copied). Only I's upper triangle is read and both of Y's are written.
+inline void addInertiaToParent(const SE3& M, const Matrix6& I, Matrix6& Y) {
+  const Matrix3& R = M.R;
+  // Rotate the blocks into A's orientation; A and C are symmetric: R X R^T from six dot products.
+  const Matrix3 TA = R * I.topLeftCorner<3, 3>();
+  const Matrix3 TC = R * I.bottomRightCorner<3, 3>();
+  Matrix3 A, C;
+  for (int r = 0; r < 3; ++r)
+    for (int c = r; c < 3; ++c) {
+      A(r, c) = A(c, r) = TA.row(r).dot(R.row(c));
+      C(r, c) = C(c, r) = TC.row(r).dot(R.row(c));
+    }
+  const Matrix3 B = R * I.topRightCorner<3, 3>() * R.transpose();
+  // Shift the reference point by p: T Y T^T with T = [[1, 0], [P, 1]], P = [p]x.
   const Matrix3 P = skew(M.p);
-  const Matrix3 PA = P * A;
   const Matrix3 B2 = B - A * P;  // B + A P^T, P^T = -P
-  Y.topLeftCorner<3, 3>() = A;
-  Y.topRightCorner<3, 3>() = B2;
-  Y.bottomLeftCorner<3, 3>() = B2.transpose();
-  Y.bottomRightCorner<3, 3>() = C + P * B - B.transpose() * P - PA * P;
-  return Y;
+  const Matrix3 PB = P * B;
+  // C + P B - B^T P - P A P = C + PB + PB^T - P A P: symmetric.
+  const Matrix3 C2 = C + PB + PB.transpose() - P * A * P;
+  Y.topLeftCorner<3, 3>() += A;
+  Y.topRightCorner<3, 3>() += B2;
+  Y.bottomLeftCorner<3, 3>() += B2.transpose();
+  Y.bottomRightCorner<3, 3>() += C2;
 }
 
 }  // namespace igms

@@ -76,7 +76,9 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
 }
 
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out) {
-  bodyKinematics(model_, data_, q);
+  // The couplings need world poses; the dynamics then reuse these placements.
+  const bool placed = in.ncouplings > 0;
+  if (placed) bodyKinematics(model_, data_, q);
   clearExternalForces(fext_);
   bool any = false;
   out.ncouplings = in.ncouplings;
@@ -90,7 +92,9 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   tau_total_ = in.tau;
   if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
   if (!limits_.empty()) limits_.apply(q, v, tau_total_, out.limit_k, out.limit_b);
-  if (!forwardDynamics(model_, data_, q, v, tau_total_, any ? &fext_ : nullptr)) {
+  const std::vector<Force>* fext = any ? &fext_ : nullptr;
+  if (!(placed ? forwardDynamicsAtPlacements(model_, data_, v, tau_total_, fext)
+               : forwardDynamics(model_, data_, q, v, tau_total_, fext))) {
     out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());  // caught by the divergence guard
     return;
   }
