@@ -61,14 +61,16 @@ bool aba(const Model& model, Data& data, const VectorX& q, const VectorX& v, con
     const Vector6 pa = data.pA[i] + Ia * data.c[i].toVector() + Ui * (data.Dinv[iv] * data.u[iv]);
     addInertiaToParent(data.liMi[i], Ia, data.IA[p]);
     const Force pa_parent = data.liMi[i].act(Force{pa.head<3>(), pa.tail<3>()});
-    data.pA[p] += pa_parent.toVector();
+    data.pA[p].head<3>() += pa_parent.f;  // no Vector6 round trip: its narrow stores stall the read
+    data.pA[p].tail<3>() += pa_parent.n;
   }
   for (int i = 0; i < model.nb; ++i) {
     const int iv = model.v_index[i];
     const int p = model.parent[i];
     const Motion a_parent = p < 0 ? data.liMi[i].actInv(a_world) : data.liMi[i].actInv(data.a[p]);
-    const Vector6 a_prime = (a_parent + data.c[i]).toVector();
+    const Motion a_sum = a_parent + data.c[i];  // a' = X a_p + c_i
     if (model.joint_type[i] == JointType::Floating) {
+      const Vector6 a_prime = a_sum.toVector();
       Eigen::LLT<Matrix6> llt(data.IA[i]);
       if (llt.info() != Eigen::Success) {
         data.singular_dof = iv;
@@ -79,9 +81,10 @@ bool aba(const Model& model, Data& data, const VectorX& q, const VectorX& v, con
       data.a[i] = Motion::fromVector(a_prime + qdd);
       continue;
     }
-    const double qdd = data.Dinv[iv] * (data.u[iv] - data.U.col(iv).dot(a_prime));
+    const auto Ui = data.U.col(iv);
+    const double qdd = data.Dinv[iv] * (data.u[iv] - Ui.head<3>().dot(a_sum.v) - Ui.tail<3>().dot(a_sum.w));
     data.qdd[iv] = qdd;
-    data.a[i] = Motion::fromVector(a_prime) + subspaceColumn(model, i, 0) * qdd;
+    data.a[i] = a_sum + subspaceColumn(model, i, 0) * qdd;
   }
   return true;
 }

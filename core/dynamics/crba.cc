@@ -18,8 +18,15 @@ const MatrixX& crba(const Model& model, Data& data, const VectorX& q) {
 
 const MatrixX& crbaAtPlacements(const Model& model, Data& data) {
   crbaUpperAtPlacements(model, data);
-  data.H.triangularView<Eigen::StrictlyLower>() = data.H.transpose();
-  return data.H;
+  // The mirror of the ancestor entries: every other entry is zero in both triangles, and stays so.
+  MatrixX& H = data.H;
+  for (int c = 0; c < model.nv; ++c)
+    for (int j = model.dof_parent[c]; j >= 0;) {
+      const int r = model.dof_run_start[j];
+      for (int t = r; t <= j; ++t) H(c, t) = H(t, c);
+      j = model.dof_parent[r];
+    }
+  return H;
 }
 
 void crbaUpperAtPlacements(const Model& model, Data& data) {

@@ -1,5 +1,7 @@
 #include "core/dynamics/forward_dynamics.h"
 
+#include <algorithm>
+
 #include "core/dynamics/crba.h"
 #include "core/dynamics/ltdl.h"
 #include "core/dynamics/rnea.h"
@@ -12,8 +14,18 @@ namespace {
 bool solveForAcceleration(const Model& model, Data& data, const VectorX& tau) {
   crbaUpperAtPlacements(model, data);  // H, at the placements bias left
   data.rhs = tau - data.bias;          // U + U_E - C - G
-  // The factorisation reads and writes the upper triangle only: no mirror, no full copy.
-  data.Hfact.triangularView<Eigen::Upper>() = data.H;
+  // The factorisation reads and writes the ancestor entries of the upper triangle only (its
+  // fill-in stays there): copy those, run by run; on a humanoid half the triangle is zeros.
+  const int n = model.nv;
+  for (int c = 0; c < n; ++c) {
+    const double* const from = data.H.col(c).data();
+    double* const to = data.Hfact.col(c).data();
+    for (int j = c; j >= 0;) {
+      const int r = model.dof_run_start[j];
+      std::copy(from + r, from + j + 1, to + r);
+      j = model.dof_parent[r];
+    }
+  }
   data.singular_dof = ltdlFactor(model.dof_parent, model.dof_run_start, data.Hfact, data.diag);
   if (data.singular_dof >= 0) return false;
   ltdlSolve(model.dof_parent, model.dof_run_start, data.Hfact, data.rhs);

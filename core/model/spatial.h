@@ -171,12 +171,19 @@ inline void addInertiaToParent(const SE3& M, const Matrix6& I, Matrix6& Y) {
       C(r, c) = C(c, r) = TC.row(r).dot(R.row(c));
     }
   const Matrix3 B = R * I.topRightCorner<3, 3>() * R.transpose();
-  // Shift the reference point by p: T Y T^T with T = [[1, 0], [P, 1]], P = [p]x.
-  const Matrix3 P = skew(M.p);
-  const Matrix3 B2 = B - A * P;  // B + A P^T, P^T = -P
-  const Matrix3 PB = P * B;
-  // C + P B - B^T P - P A P = C + PB + PB^T - P A P: symmetric.
-  const Matrix3 C2 = C + PB + PB.transpose() - P * A * P;
+  // Shift the reference point by p: T Y T^T with T = [[1, 0], [P, 1]], P = [p]x. Products with P
+  // are cross products column by column (P X).col(j) = p x X.col(j), and A P = -(P A)^T (A symmetric).
+  const Vector3& p = M.p;
+  const auto crossColumns = [&p](const Matrix3& X) {
+    Matrix3 out;
+    for (int j = 0; j < 3; ++j) out.col(j) = p.cross(X.col(j));
+    return out;
+  };
+  const Matrix3 PA = crossColumns(A);
+  const Matrix3 B2 = B + PA.transpose();  // B + A P^T = B - A P = B + (P A)^T
+  const Matrix3 PB = crossColumns(B);
+  // C + P B - B^T P - P A P = C + PB + PB^T - P A P, and P A P = -P (P A)^T: symmetric.
+  const Matrix3 C2 = C + PB + PB.transpose() + crossColumns(PA.transpose());
   Y.topLeftCorner<3, 3>() += A;
   Y.topRightCorner<3, 3>() += B2;
   Y.bottomLeftCorner<3, 3>() += B2.transpose();
