@@ -38,7 +38,8 @@ void crbaUpperAtPlacements(const Model& model, Data& data) {
     auto S = data.S_world.middleCols(model.v_index[i], model.joint_nv[i]);
     switch (model.joint_type[i]) {
       case JointType::Revolute: {
-        const Vector3 w = oMi.R * model.axis[i];
+        const int k = model.axis_aligned[i];  // axis = +-e_k: a column of R, no product
+        const Vector3 w = k >= 0 ? Vector3(model.axis[i][k] * oMi.R.col(k)) : Vector3(oMi.R * model.axis[i]);
         S.col(0) << oMi.p.cross(w), w;
         break;
       }
