@@ -7,6 +7,7 @@
 
 #include <cstddef>
 
+#include "core/model/ancestor_runs.h"
 #include "core/model/joint.h"
 
 namespace igms {
@@ -21,11 +22,9 @@ const MatrixX& crbaAtPlacements(const Model& model, Data& data) {
   // The mirror of the ancestor entries: every other entry is zero in both triangles, and stays so.
   MatrixX& H = data.H;
   for (int c = 0; c < model.nv; ++c)
-    for (int j = model.dof_parent[c]; j >= 0;) {
-      const int r = model.dof_run_start[j];
+    forEachAncestorRun(model.dof_parent, model.dof_run_start, model.dof_parent[c], [&](int r, int j) {
       for (int t = r; t <= j; ++t) H(c, t) = H(t, c);
-      j = model.dof_parent[r];
-    }
+    });
   return H;
 }
 
@@ -53,23 +52,20 @@ void crbaUpperAtPlacements(const Model& model, Data& data) {
   for (int i = model.nb - 1; i >= 0; --i)
     if (model.parent[i] >= 0) data.Ic[model.parent[i]] += data.Ic[i];
 
-  // Column c of the upper triangle: S_j^T (Ic S_c) for c's own dof and every ancestor dof j. The
-  // ancestors come in runs of consecutive dofs (chain segments), each one small matrix product
-  // into contiguous rows of the column.
+  // Column c of the upper triangle: S_j^T (Ic S_c) for c's own dof and every ancestor dof j, a dot
+  // product each, written down the column's contiguous rows run by run.
   for (int i = model.nb - 1; i >= 0; --i) {
     for (int k = 0; k < model.joint_nv[i]; ++k) {
       const int c = model.v_index[i] + k;
       const Force F = data.Ic[i] * Motion{data.S_world.col(c).head<3>(), data.S_world.col(c).tail<3>()};
       double* const column = data.H.col(c).data();
       const double* const S = data.S_world.data();  // 6 per dof: [v; w]
-      for (int j = c; j >= 0;) {
-        const int r = model.dof_run_start[j];
+      forEachAncestorRun(model.dof_parent, model.dof_run_start, c, [&](int r, int j) {
         for (int t = r; t <= j; ++t) {
           const double* s = S + 6 * static_cast<std::ptrdiff_t>(t);
           column[t] = F.f[0] * s[0] + F.f[1] * s[1] + F.f[2] * s[2] + F.n[0] * s[3] + F.n[1] * s[4] + F.n[2] * s[5];
         }
-        j = model.dof_parent[r];
-      }
+      });
     }
   }
 }

@@ -5,6 +5,7 @@
 #include "core/dynamics/crba.h"
 #include "core/dynamics/ltdl.h"
 #include "core/dynamics/rnea.h"
+#include "core/model/ancestor_runs.h"
 
 namespace igms {
 
@@ -20,11 +21,8 @@ bool solveForAcceleration(const Model& model, Data& data, const VectorX& tau) {
   for (int c = 0; c < n; ++c) {
     const double* const from = data.H.col(c).data();
     double* const to = data.Hfact.col(c).data();
-    for (int j = c; j >= 0;) {
-      const int r = model.dof_run_start[j];
-      std::copy(from + r, from + j + 1, to + r);
-      j = model.dof_parent[r];
-    }
+    forEachAncestorRun(model.dof_parent, model.dof_run_start, c,
+                       [&](int r, int j) { std::copy(from + r, from + j + 1, to + r); });
   }
   data.singular_dof = ltdlFactor(model.dof_parent, model.dof_run_start, data.Hfact, data.diag);
   if (data.singular_dof >= 0) return false;

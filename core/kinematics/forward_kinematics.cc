@@ -1,15 +1,9 @@
 #include "core/kinematics/forward_kinematics.h"
 
-#include "core/model/joint.h"
-
 namespace igms {
 
 void bodyKinematics(const Model& model, Data& data, const VectorX& q) {
-  for (int i = 0; i < model.nb; ++i) {
-    placeJoint(model, i, q, data.liMi[i]);
-    const int p = model.parent[i];
-    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
-  }
+  for (int i = 0; i < model.nb; ++i) placeBody(model, data, i, q);
 }
 
 void forwardKinematics(const Model& model, Data& data, const VectorX& q) {

@@ -2,8 +2,17 @@
 #pragma once
 
 #include "core/model/data.h"
+#include "core/model/joint.h"
 
 namespace igms {
+
+// Body i at q: its placement in its parent (data.liMi[i]) and its world pose
+// (data.oMi[i], from its parent's, which must be placed already).
+inline void placeBody(const Model& model, Data& data, int i, const VectorX& q) {
+  placeJoint(model, i, q, data.liMi[i]);
+  const int p = model.parent[i];
+  data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+}
 
 // \return nothing; data.liMi, data.oMi (bodies) and data.oMf (frames) hold the poses.
 void forwardKinematics(const Model& model, Data& data, const VectorX& q);

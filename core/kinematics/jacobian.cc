@@ -25,12 +25,7 @@ void frameJacobian(const Model& model, Data& data, const VectorX& q, int frame, 
   // Only the frame's support moves it: on a humanoid's hand that is 8 of 32 bodies.
   int depth = 0;
   for (int j = model.frame(frame).body; j >= 0; j = model.parent[j]) data.support[depth++] = j;
-  while (depth > 0) {
-    const int i = data.support[--depth];
-    placeJoint(model, i, q, data.liMi[i]);
-    const int p = model.parent[i];
-    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
-  }
+  while (depth > 0) placeBody(model, data, data.support[--depth], q);
   pointJacobian(model, data, frame, Vector3::Zero(), J);
 }
 
