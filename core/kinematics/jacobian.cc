@@ -34,15 +34,13 @@ Vector6 pointBiasAcceleration(const Model& model, Data& data, const VectorX& q, 
   const Frame& fr = model.frame(frame);
   // Outward pass with qdd = 0 and no gravity: a_i = X a_p + v_i x vJ.
   for (int i = 0; i <= fr.body; ++i) {
-    placeJoint(model, i, q, data.liMi[i]);
+    placeBody(model, data, i, q);
     const int p = model.parent[i];
     const Motion vJ = jointMotion(model, i, v);
     if (p < 0) {
-      data.oMi[i] = data.liMi[i];
       data.v[i] = vJ;
       data.a[i] = Motion::Zero();
     } else {
-      data.oMi[i] = data.oMi[p] * data.liMi[i];
       data.v[i] = data.liMi[i].actInv(data.v[p]) + vJ;
       data.a[i] = data.liMi[i].actInv(data.a[p]) + data.v[i].cross(vJ);
     }

@@ -32,7 +32,7 @@ struct Data {
   // crba and the factorisation of H (sparse LDL^T along the tree).
   std::vector<SpatialInertia> Ic;  // crba: composite inertia of the subtree, world axes
   Matrix6X S_world;                // crba: motion subspace of every dof, world axes, rows [v; w]
-  MatrixX H;                       // joint-space inertia (upper and lower filled)
+  MatrixX H;                       // joint-space inertia: crba fills both triangles, forwardDynamics the upper one
   MatrixX Hfact;                   // L^T D L factors of H, same sparsity
   VectorX qdd;                     // forward dynamics result
   VectorX rhs;                     // forward dynamics scratch

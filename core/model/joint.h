@@ -61,14 +61,6 @@ inline void placeJoint(const Model& m, int i, const Q& q, SE3& out) {
   out = X;
 }
 
-// The same, returned.
-template <typename Q>
-inline SE3 jointPlacement(const Model& m, int i, const Q& q) {
-  SE3 out;
-  placeJoint(m, i, q, out);
-  return out;
-}
-
 // S_i qdot_i: the joint's contribution to the body velocity, body coordinates.
 template <typename V>
 inline Motion jointMotion(const Model& m, int i, const V& v) {

@@ -120,7 +120,8 @@ struct SpatialInertia {
     transformInto(M, out);
     return out;
   }
-  // The same written into out (in place, as SE3::compose; out must not be this).
+  // The same written into out (in place: a returned inertia copied into Data is read back before
+  // its stores retire, a stall on every body; out must not be this).
   void transformInto(const SE3& M, SpatialInertia& out) const {
     const Vector3 a = M.R * h;
     const Vector3& p = M.p;
