@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/model/model.h"
+#include "core/model/sincos.h"
 
 namespace igms {
 
@@ -40,7 +41,8 @@ inline void placeJoint(const Model& m, int i, const Q& q, SE3& out) {
         return;
       }
       const double angle = m.axis[i][k] * q[iq];  // axis is +-e_k
-      const double c = std::cos(angle), s = std::sin(angle);
+      double s, c;
+      sinCos(angle, s, c);
       if (k == 0) detail::rotateAboutAxis<0>(X.R, c, s, out.R);
       else if (k == 1) detail::rotateAboutAxis<1>(X.R, c, s, out.R);
       else detail::rotateAboutAxis<2>(X.R, c, s, out.R);

@@ -123,18 +123,24 @@ struct SpatialInertia {
   // The same written into out (in place: a returned inertia copied into Data is read back before
   // its stores retire, a stall on every body; out must not be this).
   void transformInto(const SE3& M, SpatialInertia& out) const {
-    const Vector3 a = M.R * h;
+    const Matrix3& R = M.R;
+    const Vector3 a = R * h;
     const Vector3& p = M.p;
-    const Matrix3 T = M.R * Io;  // then R Io R^T = T R^T, symmetric: six entries
+    const Matrix3 T = R * Io;  // then R Io R^T = T R^T, symmetric: six entries
     const double diag = 2.0 * a.dot(p) + m * p.squaredNorm();
+    // The six entries in registers first, each matrix entry stored once: writing both triangles
+    // and then adding the diagonal in place reads back stores still in flight.
+    double u[6];
+    for (int r = 0, k = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c, ++k)
+        u[k] = T(r, 0) * R(c, 0) + T(r, 1) * R(c, 1) + T(r, 2) * R(c, 2) - a[r] * p[c] - p[r] * a[c] - m * p[r] * p[c];
     Matrix3& I = out.Io;
-    for (int r = 0; r < 3; ++r)
-      for (int c = r; c < 3; ++c) {
-        const double v = T.row(r).dot(M.R.row(c)) - a[r] * p[c] - p[r] * a[c] - m * p[r] * p[c];
-        I(r, c) = v;
-        I(c, r) = v;
-      }
-    I.diagonal().array() += diag;
+    I(0, 0) = u[0] + diag;
+    I(0, 1) = I(1, 0) = u[1];
+    I(0, 2) = I(2, 0) = u[2];
+    I(1, 1) = u[3] + diag;
+    I(1, 2) = I(2, 1) = u[4];
+    I(2, 2) = u[5] + diag;
     out.m = m;
     out.h = a + m * p;
   }
