@@ -48,8 +48,8 @@ inline double cosKernel(double x, double y) {
 }  // namespace detail
 
 inline void sinCos(double x, double& s, double& c) {
-  constexpr double kLimit = 1e5;  // n < 2^17: n * kPio2A and n * kPio2B exact
-  if (!(std::fabs(x) < kLimit)) {      // also NaN and infinities
+  constexpr double kLimit = 1e5;  // |n| < 2^16: n * kPio2A and n * kPio2B exact
+  if (!(std::fabs(x) < kLimit)) {  // also NaN and infinities
     s = std::sin(x);
     c = std::cos(x);
     return;
