@@ -39,6 +39,9 @@ fi
 scripts/fetch_robots.sh || echo "setup: example-robot-data not fetched; the tests that need it will skip" >&2
 # Python's LCM binding (PyPI only) in .venv: igmslog.py and the Python tests.
 scripts/python_env.sh >/dev/null || echo "setup: .venv without lcm; the Python log tests will fail" >&2
+# Pinocchio, MuJoCo and SciPy (PyPI only) in .venv-peers: the accuracy report's independent truth and
+# MuJoCo's integrators (independent_truth_test), and the optional peer benchmark.
+scripts/peer_env.sh >/dev/null || echo "setup: no .venv-peers; independent_truth_test will fail" >&2
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
   cat build.configure.log

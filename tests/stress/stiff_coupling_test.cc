@@ -3,6 +3,9 @@
 // linearly-implicit scheme stays stable and passive up to k = 1e7 N/m on 0.1 kg.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "tools/accuracy/step_matrix.h"
 #include "tools/accuracy/stiffness.h"
 
 namespace igms::accuracy {
@@ -11,6 +14,21 @@ namespace {
 TEST(StiffCoupling, ExplicitLimitsMatchTheory) {
   EXPECT_NEAR(stabilityLimit(0, 0.1, 1e-3), 4.0, 0.05) << "semi-implicit Euler: k h^2 / m < 4";
   EXPECT_NEAR(stabilityLimit(1, 0.1, 1e-3), 8.0, 0.15) << "RK4: k h^2 / m < (2 sqrt 2)^2";
+}
+
+// The same limits read off each scheme's step matrix: exact, undamped and damped.
+TEST(StiffCoupling, StepMatricesGiveTheLimitsExactly) {
+  EXPECT_NEAR(spectralStabilityLimit(0, 0.0), 4.0, 1e-6) << "semi-implicit Euler";
+  EXPECT_NEAR(spectralStabilityLimit(1, 0.0), 8.0, 1e-6) << "RK4: (2 sqrt 2)^2";
+  const double critical = spectralStabilityLimit(0, 1.0);
+  EXPECT_GT(critical, 0.6) << "explicit damping lowers semi-implicit Euler's limit";
+  EXPECT_LT(critical, 0.75);
+  for (double zeta : {0.0, 0.1, 1.0})
+    EXPECT_TRUE(std::isinf(spectralStabilityLimit(2, zeta))) << "linearly implicit, zeta " << zeta;
+  for (double ratio : {0.01, 1.0, 4.0, 100.0, 1e4})
+    EXPECT_NEAR(stepSpectralRadius(2, ratio, 0.0), linearlyImplicitTheory(ratio), 1e-12) << ratio;
+  EXPECT_NEAR(stepSpectralRadius(2, 100.0, 0.0), 0.0995, 5e-5) << "stable, and heavily damped";
+  EXPECT_NEAR(stepSpectralRadius(0, 2.0, 0.0), 1.0, 1e-12) << "symplectic below its limit: no damping";
 }
 
 TEST(StiffCoupling, LinearlyImplicitIsStableAndPassiveUpTo1e7) {

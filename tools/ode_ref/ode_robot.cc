@@ -3,6 +3,7 @@
 #include <ode/ode.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 
@@ -72,6 +73,9 @@ OdeRobot::OdeRobot(const Model& model, const VectorX& q0, const VectorX& v0, con
   dWorldSetERP(s.world, settings.erp);
   dWorldSetCFM(s.world, settings.cfm);
   dWorldSetQuickStepNumIterations(s.world, settings.quickstep_iterations);
+  // QuickStep reorders its constraints at random each step: a fixed seed per
+  // robot makes its runs repeatable.
+  dRandSetSeed(settings.quickstep_seed);
   dWorldSetAutoDisableFlag(s.world, 0);
   dWorldSetMaxAngularSpeed(s.world, dInfinity);
   Data data(model);
@@ -86,8 +90,25 @@ OdeRobot::OdeRobot(const Model& model, const VectorX& q0, const VectorX& v0, con
     Vector3 c = I.com();
     Matrix3 Ic = I.inertiaAboutCom();
     const double smallest = Eigen::SelfAdjointEigenSolver<Matrix3>(Ic).eigenvalues().minCoeff();
-    if (!(mass > 0.0) || !(smallest > 0.0)) {
-      regularised_.push_back(model.body_name[i]);
+    const bool hinged_to_world = model.parent[i] < 0 && model.joint_type[i] == JointType::Revolute;
+    if (hinged_to_world && (!(mass > 0.0) || !(smallest > 0.0))) {
+      // A body hinged to the world turns about a fixed axis: mass on that axis
+      // and inertia about axes across it meet only the hinge's reaction, so
+      // 1 kg there and the axial inertia across it leave the motion exactly as
+      // it is while giving ODE's solvers a well-conditioned body (1e-6 kg
+      // made QuickStep fail on the PUMA's massless link 1).
+      const Vector3& a = model.axis[i];
+      const double axial = std::max(a.dot(Ic * a), 1e-3);
+      if (!(mass > 0.0)) {
+        mass = 1.0;
+        c = a * a.dot(c);  // the com of nothing: put the added mass on the axis
+        regularised_.push_back(model.body_name[i] + " (1 kg on its fixed axis: no effect on the motion)");
+      } else {
+        regularised_.push_back(model.body_name[i] + " (inertia across its fixed axis: no effect on the motion)");
+      }
+      Ic += axial * (Matrix3::Identity() - a * a.transpose());
+    } else if (!(mass > 0.0) || !(smallest > 0.0)) {
+      regularised_.push_back(model.body_name[i] + " (1e-6 kg and 1e-9 kg m^2 added: a small distortion)");
       if (!(mass > 0.0)) mass = 1e-6;
       Ic += 1e-9 * Matrix3::Identity();
     }

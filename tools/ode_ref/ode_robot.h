@@ -8,9 +8,10 @@
 // Honest settings: CFM 1e-10 (rigid joints; ODE's default 1e-5 is soft), ERP
 // 0.2 (ODE's default drift correction), no damping but the joint damping we
 // apply ourselves as explicit torques -d qdot, no velocity clamping, no
-// auto-disable. ODE needs positive mass and definite inertia: a body without
-// (PUMA link 1 has no mass, only a rotor inertia) gets 1e-6 kg and 1e-9 kg m^2
-// added, and regularised() says which.
+// auto-disable. ODE needs positive mass and definite inertia. A body hinged to
+// the world without them (PUMA link 1 has no mass, only a rotor inertia) gets
+// 1 kg on its axis and inertia across it, which leaves the motion unchanged;
+// any other gets 1e-6 kg and 1e-9 kg m^2 added. regularised() says which.
 #pragma once
 
 #include <memory>
@@ -23,7 +24,8 @@ namespace igms {
 
 struct OdeSettings {
   bool quickstep = false;       // dWorldQuickStep (iterative) instead of dWorldStep (exact LCP)
-  int quickstep_iterations = 100;
+  int quickstep_iterations = 100;  // ODE's SOR over-relaxation stays at its default, 1.3
+  unsigned long quickstep_seed = 1;  // the seed of QuickStep's constraint reordering (dRandSetSeed)
   double erp = 0.2;
   double cfm = 1e-10;
   bool joint_damping = false;   // apply -d qdot from the model's damping
