@@ -6,7 +6,9 @@ scipy), never inside igms.
 
 1. The independent truth: SciPy's DOP853 (adaptive, 8th order) on Pinocchio's
    articulated-body algorithm, rtol = atol = 1e-12, checked against itself at
-   1e-13; written as <case>.truth.json (q, v, end effector every 32 ms).
+   1e-13; written as <case>.truth.json (q, v, end effector every 32 ms). The
+   pull's force from Pinocchio's frame Jacobian; the push's from the link's
+   collision cylinder as Pinocchio reads it, with eq. 3 written here anew.
 2. MuJoCo on the same axes: Euler (semi-implicit, damping implicit), implicit,
    implicitfast and RK4, from the same URDF and initial state, contacts and
    constraints (limits) off, over the same steps; errors against the
@@ -83,6 +85,14 @@ class Case:
         if self.hand:
             self.hand_frame = self.model.getFrameId(self.hand["link"])
             self.hand_point, self.hand_tip = np.array(self.hand["point"]), np.array(self.hand["tip"])
+            self.push = self.hand["mode"] == "push"
+            if self.push:  # the link's collision cylinder, read from the URDF by Pinocchio (coal shapes)
+                geoms = pin.buildGeomFromUrdf(self.model, self.urdf_path, pin.GeometryType.COLLISION)
+                mine = [o for o in geoms.geometryObjects
+                        if self.model.frames[o.parentFrame].name == self.hand["link"]]
+                if len(mine) != 1 or type(mine[0].geometry).__name__ != "Cylinder":
+                    sys.exit(f"{path}: the push's truth needs one collision cylinder on {self.hand['link']}")
+                self.cylinder = mine[0]
         self.samples = int(round(s["duration"] / s["sample"])) + 1
         self.t = np.arange(self.samples) * s["sample"]
 
@@ -133,11 +143,43 @@ class Case:
         r = X.rotation @ self.hand_point
         return X.translation + r, J[:3] - pin.skew(r) @ J[3:]
 
+    def push_contact(self, q):
+        """Eq. 3 on the link's cylinder, written here from its geometry: the tip sphere's depth d into it,
+        the outward normal n and the surface point under the tip (world), and that point's Jacobian."""
+        c = self.cylinder
+        pin.forwardKinematics(self.model, self.data, q)
+        X = self.data.oMi[c.parentJoint] * c.placement
+        local = X.rotation.T @ (self.hand_tip - X.translation)
+        radius, half = c.geometry.radius, c.geometry.halfLength
+        rho = np.hypot(local[0], local[1])
+        radial = np.array([local[0] / rho, local[1] / rho, 0.0]) if rho > 1e-15 else np.array([1.0, 0, 0])
+        inside = rho <= radius and abs(local[2]) <= half
+        if not inside:
+            surface = radial * min(rho, radius) + np.array([0, 0, np.clip(local[2], -half, half)])
+            normal = (local - surface) / np.linalg.norm(local - surface)
+            distance = np.linalg.norm(local - surface)
+        elif radius - rho < half - abs(local[2]):
+            surface, normal = radial * radius + np.array([0, 0, local[2]]), radial
+            distance = -(radius - rho)
+        else:
+            sign = 1.0 if local[2] >= 0 else -1.0
+            surface, normal = np.array([local[0], local[1], sign * half]), np.array([0, 0, sign])
+            distance = -(half - abs(local[2]))
+        depth = self.hand["tip_radius"] - distance
+        point = X.act(surface)
+        pin.computeJointJacobians(self.model, self.data, q)
+        J = pin.getJointJacobian(self.model, self.data, c.parentJoint, pin.LOCAL_WORLD_ALIGNED)
+        r = point - self.data.oMi[c.parentJoint].translation
+        return depth, X.rotation @ normal, J[:3] - pin.skew(r) @ J[3:]
+
     def energy(self, q, v):
         q = self.normalized(q)
         E = (pin.computeKineticEnergy(self.model, self.data, q, v) +
              pin.computePotentialEnergy(self.model, self.data, q))
-        if self.hand:  # pull cases only reach here (see main)
+        if self.hand and self.push:
+            depth = self.push_contact(q)[0]
+            E += 0.5 * self.hand["k"] * max(depth, 0.0) ** 2
+        elif self.hand:
             x, _ = self.pull_point(q)
             E += 0.5 * self.hand["k"] * np.sum((self.hand_tip - x) ** 2)
         return E
@@ -158,7 +200,11 @@ def rhs(case):
         q, v = y[:nq], y[nq:]
         qn = case.normalized(q)
         tau = -damping * v
-        if case.hand:  # eq. 4: F = k (x_tip - x) - b xdot at the attachment point, tau = J^T F
+        if case.hand and case.push:  # eq. 3: c = k_p d into the link at the surface point, U_E = J^T c
+            depth, n, Jp = case.push_contact(qn)
+            if depth > 0:
+                tau = tau + Jp.T @ (-case.hand["k"] * depth * n)
+        elif case.hand:  # eq. 4: F = k (x_tip - x) - b xdot at the attachment point, tau = J^T F
             x, Jp = case.pull_point(qn)
             tau = tau + Jp.T @ (case.hand["k"] * (case.hand_tip - x) - case.hand["b"] * (Jp @ v))
         a = pin.aba(m, d, qn, v, tau)
@@ -411,11 +457,10 @@ def main():
         csv.write(CSV_HEADER + "\n")
         for name in names:
             case = Case(os.path.join(a.cases_dir, name + ".json"))
-            if case.hand and case.hand["mode"] != "pull":
-                print(f"{name}: skipped: the push's contact geometry (the tip against link shapes) is igms's alone; "
-                      "its truth is igms's RK4 at 1/64 ms, and MuJoCo's soft contact is another model")
-                continue
             tq, tv = truth(case, a.cases_dir)
+            if case.hand and case.push:
+                print("  MuJoCo skipped: its contact is a soft constraint, another model than eq. 3's penalty")
+                continue
             if case.hand and case.hand["b"] != 0:
                 print("  MuJoCo skipped: a tendon's damping acts along the line only; eq. 4's acts on the whole "
                       "velocity")

@@ -77,8 +77,8 @@ def haptic_section(rows, truths_path):
           "(the spring acts in all three), along the contact normal for the push. "
           "Each cell: the largest joint error (rad) against the truth, and the energy the method injects (+) or "
           "removes (-) per second (W; kinetic + gravity + the spring's; the undamped truth keeps it, the damped "
-          "truth's own rate is given). Truth: the independent one for the pulls (DOP853 on Pinocchio's ABA with "
-          "eq. 4's force), igms's RK4 at 1/64 ms for the push (its contact geometry is igms's alone). MuJoCo: the "
+          "truth's own rate is given). Truth: the independent one (DOP853 on Pinocchio's ABA with eq. 4's force, or "
+          "eq. 3's written anew on the forearm's cylinder as Pinocchio reads it from the URDF). MuJoCo: the "
           "undamped pull as a zero-length spatial tendon (the same force); not for the damped pull (a tendon's "
           "damping acts along the line only) nor the push (its soft contact is another model). LI per step: the "
           "linearly-implicit scheme's amplitude factor per step on that spring, 1/sqrt(1 + k h^2/m), and per period "
@@ -171,8 +171,7 @@ def truth_lines(path, case, peers):
     r = rows[0]
     if r["reference"] == "none":
         return [f"Truth: igms's RK4 at 1/64 ms (step halving moves it by {float(r['igms_truth_halving_q_max']):.1e} "
-                "rad). No independent truth: the push's contact geometry (the tip against the link's shapes) is "
-                "igms's alone, and MuJoCo's soft contact is another model.", ""]
+                "rad). No independent truth for this case.", ""]
     md = [f"Truth: {r['reference']} (against itself at a 10x tighter tolerance: "
           f"{float(r['reference_self_check_q_max']):.1e} rad). igms's own truth, RK4 at 1/64 ms (step halving: "
           f"{float(r['igms_truth_halving_q_max']):.1e} rad), agrees with it to "

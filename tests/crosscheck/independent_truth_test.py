@@ -3,7 +3,8 @@
 scripts/accuracy.sh runs them (short cases): igms writes the cases, SciPy's
 DOP853 on Pinocchio's ABA and MuJoCo run them in .venv-peers, and igms
 measures against that truth. Asserted:
-  - each engine's truth agrees with igms's own (RK4 at 1/64 ms) to 1e-10 rad;
+  - the independent truth agrees with igms's own (RK4 at 1/64 ms) to 1e-10 rad,
+    and to 1e-7 on the push (eq. 3 written anew on the forearm's cylinder);
   - MuJoCo's model equals Pinocchio's (H and bias at q0, relative 1e-12);
   - the same scheme on the same equations gives the same error: igms RK4 and
     MuJoCo RK4, igms semi-implicit Euler and MuJoCo Euler (no damping there),
@@ -32,7 +33,8 @@ def check(ok, what):
 
 if not os.path.exists(python):
     sys.exit(f"{python} is missing: scripts/peer_env.sh installs it (scripts/setup.sh runs it)")
-cases = ["puma_swing", "tumble", "puma_pull_k8000"]
+cases = ["puma_swing", "tumble", "puma_pull_k8000", "puma_push_k2000"]
+with_mujoco = cases[:3]  # the push's contact is another model in MuJoCo
 with tempfile.TemporaryDirectory() as tmp:
     d = os.path.join(tmp, "cases")
     os.mkdir(d)
@@ -55,10 +57,13 @@ with tempfile.TemporaryDirectory() as tmp:
 for c in cases:
     t = truths[c]
     check("DOP853" in t["reference"], f"{c}: the truth is the independent one ({t['reference']})")
-    check(float(t["igms_truth_vs_reference_q_max"]) < 1e-10,
+    # igms's own RK4 at 1/64 ms steps over the push's contact onsets: 8 digits there
+    check(float(t["igms_truth_vs_reference_q_max"]) < (1e-7 if "push" in c else 1e-10),
           f"{c}: igms's truth agrees with DOP853 on Pinocchio: {float(t['igms_truth_vs_reference_q_max']):.2e} rad")
     check(float(t["reference_self_check_q_max"]) < 1e-10,
           f"{c}: DOP853 against itself at 10x tighter tolerance: {float(t['reference_self_check_q_max']):.2e} rad")
+    if c not in with_mujoco:
+        continue
     info = peers["cases"][c]
     check(info["H_relative_difference"] < 1e-12 and info["bias_relative_difference"] < 1e-12,
           f"{c}: MuJoCo's H and bias equal Pinocchio's ({info['H_relative_difference']:.1e}, "
@@ -70,7 +75,7 @@ def err(case, method, h):
     return float(r[0]["q_max"])
 
 
-for c in cases:
+for c in with_mujoco:
     for ours, theirs in (("rk4", "mujoco_rk4"), ("semi_implicit_euler", "mujoco_euler")):
         a, b = err(c, ours, 1.0), err(c, theirs, 1.0)
         check(abs(a - b) <= 0.01 * max(a, b), f"{c}: igms {ours} {a:.4g} rad, MuJoCo {theirs} {b:.4g} at 1 ms")

@@ -27,8 +27,8 @@ struct Reference {
   double self_check_q_max = 0; // the truth against itself at 10x tighter tolerance
 };
 Reference readReference(const Case& c, const std::string& dir);
-// Whether <dir>/<case>.truth.json exists (the push has none: its contact
-// geometry is igms's alone).
+// Whether <dir>/<case>.truth.json exists (without it igms measures against
+// its own truth, RK4 at 1/64 ms, and says so).
 bool hasReference(const Case& c, const std::string& dir);
 
 }  // namespace igms::accuracy
