@@ -89,7 +89,7 @@ int extremeTable(const Options& o) {
   return failed ? 1 : 0;
 }
 
-// Every method at every step on one case, against the ground truth.
+// A case with the run's duration (--duration, or 1.024 s with --quick).
 Case caseFor(const std::string& name, const Options& o) {
   Case c = makeCase(name, IGMS_SOURCE_DIR);
   if (o.duration > 0) c.duration = o.duration;
@@ -97,6 +97,8 @@ Case caseFor(const std::string& name, const Options& o) {
   return c;
 }
 
+// Every method at every step on one case, against the truth (the independent
+// one when --reference has it); one row of the truths' agreement.
 void sweepCase(const std::string& name, const Options& o, const std::vector<double>& steps, std::ofstream& out,
                std::ofstream& truths) {
   const Case c = caseFor(name, o);
