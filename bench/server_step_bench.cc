@@ -5,7 +5,7 @@
 // each Panda collision mesh (the push's contact: distance, normal, point), at
 // random tips within 12 mm of the surface, against FCL's exact point-to-mesh
 // distance on the same triangles in the same run.
-//   igms-step-bench [--quick]
+//   igms-step-bench [--quick] [--only TEXT] [--steps N]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -131,19 +131,26 @@ int main(int argc, char** argv) {
   bool quick = false;
   CLI::App app{"", "igms-step-bench"};
   igms::cli::describe(app, "One server step (the paper's loop) on the committed scenes: median and p99.");
+  std::string only;
+  int steps = 0;
   app.add_flag("--quick", quick, "3000 steps per row instead of 20000");
+  app.add_option("--only", only, "only the rows whose label contains this text (e.g. Talos, 'PUMA, pull')");
+  app.add_option("--steps", steps, "steps per row (default 20000; 3000 with --quick)")->check(CLI::PositiveNumber);
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
-  const int n = quick ? 3000 : 20000;
+  const int n = steps > 0 ? steps : quick ? 3000 : 20000;
+  const auto wanted = [&](const std::string& label) { return only.empty() || label.find(only) != std::string::npos; };
   const std::string dir = std::string(IGMS_SOURCE_DIR) + "/scenes/";
   std::printf("igms-step-bench: one simulation step, %d steps each (1 kHz scenes)\n", n);
   for (const char* integrator : {"linearly_implicit", "semi_implicit_euler", "rk4"}) {
+    const std::string label = "PUMA, trajectory + computed torque + FD, " + std::string(integrator);
+    if (!wanted(label)) continue;
     Scene scene = loadScene(dir + "puma_wall.yaml");
     parseIntegrator(integrator, &scene.integrator);
     Simulation sim(scene);
     auto us = timeSteps(sim, nullptr, n);
-    report(("PUMA, trajectory + computed torque + FD, " + std::string(integrator)).c_str(), us);
+    report(label.c_str(), us);
   }
-  {
+  if (wanted("PUMA, push coupling (hold + contact), linearly_implicit")) {
     Simulation sim(loadScene(dir + "puma_wall.yaml"));
     sim.step(nullptr);
     const auto& poses = sim.linkPoses();
@@ -154,7 +161,7 @@ int main(int argc, char** argv) {
     auto us = timeSteps(sim, &push, n);
     report("PUMA, push coupling (hold + contact), linearly_implicit", us);
   }
-  {
+  if (wanted("PUMA, pull coupling (hold + spring-damper), linearly_implicit")) {
     Simulation sim(loadScene(dir + "puma_wall.yaml"));
     InteractionInput pull;
     pull.mode = InteractionMode::Pull;
@@ -162,7 +169,8 @@ int main(int argc, char** argv) {
     auto us = timeSteps(sim, &pull, n);
     report("PUMA, pull coupling (hold + spring-damper), linearly_implicit", us);
   }
-  {
+  if (wanted("PUMA, 6-D pull coupling (force and torque), linearly_implicit") ||
+      wanted("PUMA, two hands: 6-D pull + push on link 2, linearly_implicit")) {
     // The 6-D pull (eq. 4 with X a pose): the rotational spring-damper too.
     Simulation sim(loadScene(dir + "puma_obstacle.yaml"));
     const SE3 X = sim.linkPoses()[static_cast<size_t>(sim.pullFrame())];
@@ -191,7 +199,7 @@ int main(int argc, char** argv) {
     }
     report("PUMA, two hands: 6-D pull + push on link 2, linearly_implicit", hands_us);
   }
-  {
+  if (wanted("PUMA + FCL obstacles: FK + collision check (publisher)") || wanted("PUMA + FCL obstacles: step + check")) {
     Simulation sim(loadScene(dir + "puma_obstacle.yaml"));
     CollisionWorld world(sim.model(), sim.scene().obstacles);
     std::vector<double> step_us, check_us;
@@ -209,7 +217,7 @@ int main(int argc, char** argv) {
     report("PUMA + FCL obstacles: FK + collision check (publisher)", check_us);
     report("PUMA + FCL obstacles: step + check", total);
   }
-  {
+  if (wanted("quadruped, floating base (18 dof), linearly_implicit")) {
     Simulation sim(loadScene(dir + "quadruped_float.yaml"));
     auto us = timeSteps(sim, nullptr, n);
     report("quadruped, floating base (18 dof), linearly_implicit", us);
@@ -223,6 +231,9 @@ int main(int argc, char** argv) {
   for (const RealRobot& r : {RealRobot{"panda_obstacle.yaml", "Panda (9 dof, meshes)", "panda_link4"},
                              RealRobot{"ur5_line.yaml", "UR5 (6 dof, meshes)", "forearm_link"},
                              RealRobot{"talos_float.yaml", "Talos (44 dof + floating base, meshes)", "torso_2_link"}}) {
+    const std::string push_label = std::string(r.label) + ", push on a mesh link";
+    const std::string pull_label = std::string(r.label) + ", pull";
+    if (!wanted(push_label) && !wanted(pull_label)) continue;
     Scene scene;
     try {
       scene = loadScene(dir + r.scene);
@@ -231,7 +242,7 @@ int main(int argc, char** argv) {
       std::printf("%-62s skipped: %s\n", r.label, e.what());
       continue;
     }
-    {
+    if (wanted(push_label)) {
       Simulation sim(scene);
       sim.step(nullptr);
       // A tip just touching the link's mesh: marched in from 30 cm above its origin.
@@ -248,17 +259,17 @@ int main(int argc, char** argv) {
       }
       push.tip_position = tip;
       auto us = timeSteps(sim, &push, n);
-      report((std::string(r.label) + ", push on a mesh link").c_str(), us);
+      report(push_label.c_str(), us);
     }
-    {
+    if (wanted(pull_label)) {
       Simulation sim(scene);
       InteractionInput pull;
       pull.mode = InteractionMode::Pull;
       pull.tip_position = sim.linkPoses()[static_cast<size_t>(std::max(0, sim.pullFrame()))].p + Vector3(0.02, 0, 0);
       auto us = timeSteps(sim, &pull, n);
-      report((std::string(r.label) + ", pull").c_str(), us);
+      report(pull_label.c_str(), us);
     }
   }
-  benchTipQueries(quick ? 2000 : 20000);
+  if (wanted("tip-link query")) benchTipQueries(quick ? 2000 : 20000);
   return 0;
 }

@@ -20,19 +20,25 @@ const MatrixX& crba(const Model& model, Data& data, const VectorX& q) {
 const MatrixX& crbaAtPlacements(const Model& model, Data& data) {
   crbaUpperAtPlacements(model, data);
   // The mirror of the ancestor entries: every other entry is zero in both triangles, and stays so.
+  // Column t's lower part is t's descendants, one contiguous range in depth-first order: the
+  // stores run down a column (a row's would each touch another cache line).
   MatrixX& H = data.H;
-  for (int c = 0; c < model.nv; ++c)
-    forEachAncestorRun(model.dof_parent, model.dof_run_start, model.dof_parent[c], [&](int r, int j) {
-      for (int t = r; t <= j; ++t) H(c, t) = H(t, c);
-    });
+  for (int t = 0; t < model.nv; ++t) {
+    double* const column = H.col(t).data();
+    for (int c = t + 1; c < model.dof_subtree_end[t]; ++c) column[c] = H(t, c);
+  }
   return H;
 }
 
-void crbaUpperAtPlacements(const Model& model, Data& data) {
+namespace {
+
+// compose_world_poses: data.oMi from data.liMi here; else bodyKinematics left them (the same products).
+void crbaUpper(const Model& model, Data& data, bool compose_world_poses) {
   // World poses, world inertias, world motion subspaces.
   for (int i = 0; i < model.nb; ++i) {
     const int p = model.parent[i];
-    const SE3& oMi = data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+    if (compose_world_poses) data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+    const SE3& oMi = data.oMi[i];
     model.inertia[i].transformInto(oMi, data.Ic[i]);
     auto S = data.S_world.middleCols(model.v_index[i], model.joint_nv[i]);
     switch (model.joint_type[i]) {
@@ -69,5 +75,11 @@ void crbaUpperAtPlacements(const Model& model, Data& data) {
     }
   }
 }
+
+}  // namespace
+
+void crbaUpperAtPlacements(const Model& model, Data& data) { crbaUpper(model, data, true); }
+
+void crbaUpperAtPoses(const Model& model, Data& data) { crbaUpper(model, data, false); }
 
 }  // namespace igms

@@ -16,4 +16,7 @@ const MatrixX& crbaAtPlacements(const Model& model, Data& data);
 // factorisation reads; the strictly lower part is left as it was.
 void crbaUpperAtPlacements(const Model& model, Data& data);
 
+// The same with data.oMi at q too (bodyKinematics ran): the world poses are not composed again.
+void crbaUpperAtPoses(const Model& model, Data& data);
+
 }  // namespace igms

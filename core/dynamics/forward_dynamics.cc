@@ -9,11 +9,10 @@
 
 namespace igms {
 
-namespace {
-
-// qdd from data.bias, with the placements bias left: H (upper triangle), its factors, the solve.
-bool solveForAcceleration(const Model& model, Data& data, const VectorX& tau) {
-  crbaUpperAtPlacements(model, data);  // H, at the placements bias left
+// qdd from data.bias, at the placements bias left: H (upper triangle), its factors, the solve.
+bool forwardDynamicsAtBias(const Model& model, Data& data, const VectorX& tau, bool world_poses) {
+  if (world_poses) crbaUpperAtPoses(model, data);  // H, at the poses bodyKinematics left
+  else crbaUpperAtPlacements(model, data);         // H, at the placements bias left
   data.rhs = tau - data.bias;          // U + U_E - C - G
   // The factorisation reads and writes the ancestor entries of the upper triangle only (its
   // fill-in stays there): copy those, run by run; on a humanoid half the triangle is zeros.
@@ -31,18 +30,16 @@ bool solveForAcceleration(const Model& model, Data& data, const VectorX& tau) {
   return true;
 }
 
-}  // namespace
-
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext) {
   bias(model, data, q, v, fext);  // C v + G - U_E
-  return solveForAcceleration(model, data, tau);
+  return forwardDynamicsAtBias(model, data, tau);
 }
 
-bool forwardDynamicsAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
-                                 const std::vector<Force>* fext) {
+bool forwardDynamicsAtPoses(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
+                            const std::vector<Force>* fext) {
   biasAtPlacements(model, data, v, fext);
-  return solveForAcceleration(model, data, tau);
+  return forwardDynamicsAtBias(model, data, tau, true);
 }
 
 std::string dofName(const Model& model, int dof) {

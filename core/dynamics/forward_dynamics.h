@@ -17,9 +17,13 @@ namespace igms {
 bool forwardDynamics(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& tau,
                      const std::vector<Force>* fext = nullptr);
 
-// The same with data.liMi already at q (bodyKinematics placed them).
-bool forwardDynamicsAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
-                                 const std::vector<Force>* fext = nullptr);
+// The same with data.liMi and data.oMi already at q (bodyKinematics placed them).
+bool forwardDynamicsAtPoses(const Model& model, Data& data, const VectorX& v, const VectorX& tau,
+                            const std::vector<Force>* fext = nullptr);
+
+// The same with data.liMi at q and data.bias = b(q, v) - J^T f_E already computed there
+// (rneaAndBias, beside a controller's inverse dynamics); world_poses: data.oMi is at q too.
+bool forwardDynamicsAtBias(const Model& model, Data& data, const VectorX& tau, bool world_poses = false);
 
 // The dof's joint name, for messages about data.singular_dof.
 std::string dofName(const Model& model, int dof);

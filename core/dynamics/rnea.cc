@@ -50,7 +50,60 @@ void rneaPasses(const Model& model, Data& data, const VectorX* q, const VectorX&
   }
 }
 
+// rneaPasses twice at one state, sharing what the two have in common (placements, velocities,
+// velocity products, v x* I v): the controller's (a_cmd, f_cmd -> tau; `a` null: zero acceleration,
+// no fext) and the bias's (a, f -> bias, with fext). Each is computed with the same operations in the
+// same order as rneaPasses computes it alone, so both are bit for bit what the two calls give.
+void rneaAndBiasPasses(const Model& model, Data& data, const VectorX* q, const VectorX& v, const VectorX* a,
+                       const std::vector<Force>* fext) {
+  const Motion a_world{-model.gravity, Vector3::Zero()};
+  for (int i = 0; i < model.nb; ++i) {
+    if (q) placeJoint(model, i, *q, data.liMi[i]);
+    const SE3& X = data.liMi[i];
+    const Motion vJ = jointMotion(model, i, v);
+    const int p = model.parent[i];
+    Motion& vi = data.v[i];
+    Motion& ai = data.a[i];
+    Motion& ci = data.a_cmd[i];
+    if (p < 0) {
+      vi = vJ;
+      ai = X.actInv(a_world);
+      ci = ai;
+    } else {
+      vi = X.actInv(data.v[p]) + vJ;
+      const Motion vxvJ = vi.cross(vJ);
+      ai = X.actInv(data.a[p]) + vxvJ;
+      ci = a ? X.actInv(data.a_cmd[p]) + vxvJ : ai;
+    }
+    if (a) ci += jointMotion(model, i, *a);
+    const SpatialInertia& I = model.inertia[i];
+    data.f[i] = I * ai + crossForce(vi, I * vi);
+    if (a) data.f_cmd[i] = I * ci + crossForce(vi, I * vi);
+    else data.f_cmd[i] = data.f[i];
+    if (fext) data.f[i] -= (*fext)[i];
+  }
+  for (int i = model.nb - 1; i >= 0; --i) {
+    projectOnSubspace(model, i, data.f[i], data.bias.segment(model.v_index[i], model.joint_nv[i]));
+    projectOnSubspace(model, i, data.f_cmd[i], data.tau.segment(model.v_index[i], model.joint_nv[i]));
+    const int p = model.parent[i];
+    if (p >= 0) {
+      data.f[p] += data.liMi[i].act(data.f[i]);
+      data.f_cmd[p] += data.liMi[i].act(data.f_cmd[i]);
+    }
+  }
+}
+
 }  // namespace
+
+void rneaAndBias(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX* a,
+                 const std::vector<Force>* fext) {
+  rneaAndBiasPasses(model, data, &q, v, a, fext);
+}
+
+void rneaAndBiasAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX* a,
+                             const std::vector<Force>* fext) {
+  rneaAndBiasPasses(model, data, nullptr, v, a, fext);
+}
 
 const VectorX& rnea(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX& a,
                     const std::vector<Force>* fext) {

@@ -24,4 +24,15 @@ const VectorX& bias(const Model& model, Data& data, const VectorX& q, const Vect
 const VectorX& biasAtPlacements(const Model& model, Data& data, const VectorX& v,
                                 const std::vector<Force>* fext = nullptr);
 
+// A controller's inverse dynamics and the plant's bias at the same state, in one pass:
+// data.tau = rnea(q, v, *a) (a null: bias(q, v), the hold's gravity and Coriolis compensation) and
+// data.bias = bias(q, v, fext), bit for bit what the separate calls give, sharing the placements,
+// the velocities and the velocity products (the server step's computed torque and forward dynamics).
+void rneaAndBias(const Model& model, Data& data, const VectorX& q, const VectorX& v, const VectorX* a,
+                 const std::vector<Force>* fext = nullptr);
+
+// The same with data.liMi already at q.
+void rneaAndBiasAtPlacements(const Model& model, Data& data, const VectorX& v, const VectorX* a,
+                             const std::vector<Force>* fext = nullptr);
+
 }  // namespace igms

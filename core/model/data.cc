@@ -26,6 +26,8 @@ Data::Data(const Model& m)
       Dinv(VectorX::Zero(m.nv)),
       u(VectorX::Zero(m.nv)),
       J(Matrix6X::Zero(6, m.nv)),
-      support(m.nb) {}
+      support(m.nb),
+      a_cmd(m.nb),
+      f_cmd(m.nb) {}
 
 }  // namespace igms

@@ -26,7 +26,7 @@ struct Data {
   std::vector<Force> fext;   // external wrench on body i, body coordinates
 
   // rnea / bias results.
-  VectorX tau;               // rnea: generalised force
+  VectorX tau;               // rnea (and rneaAndBias): generalised force
   VectorX bias;              // b(q, v) = C v + G
 
   // crba and the factorisation of H (sparse LDL^T along the tree).
@@ -49,6 +49,10 @@ struct Data {
   // Jacobians.
   Matrix6X J;                // 6 x nv frame Jacobian scratch
   std::vector<int> support;  // frameJacobian: the bodies from the frame's up to the root
+
+  // rneaAndBias: the controller's pass beside the bias's (data.a, data.f).
+  std::vector<Motion> a_cmd;  // its body accelerations
+  std::vector<Force> f_cmd;   // its transmitted forces
 };
 
 }  // namespace igms

@@ -85,6 +85,7 @@ struct Model {
   // Per velocity coordinate.
   std::vector<int> dof_parent;     // nearest ancestor dof, -1 at a root: the sparsity of H
   std::vector<int> dof_run_start;  // r <= k with dof_parent[t] = t - 1 for r < t <= k
+  std::vector<int> dof_subtree_end;  // one past t's last descendant: its subtree is t..end-1 (depth-first)
   std::vector<double> damping;     // N*m*s/rad or N*s/m, from <dynamics damping>
   std::vector<double> friction;    // Coulomb, from <dynamics friction>; kept, not applied
   std::vector<double> lower, upper, effort_limit, velocity_limit;  // inf when absent

@@ -229,6 +229,11 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
   m.dof_run_start.assign(static_cast<size_t>(m.nv), 0);
   for (int k = 0; k < m.nv; ++k)
     m.dof_run_start[k] = (k > 0 && m.dof_parent[k] == k - 1) ? m.dof_run_start[k - 1] : k;
+  m.dof_subtree_end.resize(static_cast<size_t>(m.nv));
+  for (int k = 0; k < m.nv; ++k) m.dof_subtree_end[k] = k + 1;
+  for (int k = m.nv - 1; k >= 0; --k)  // children come after their parent: leaves first
+    if (m.dof_parent[k] >= 0)
+      m.dof_subtree_end[m.dof_parent[k]] = std::max(m.dof_subtree_end[m.dof_parent[k]], m.dof_subtree_end[k]);
 
   // A joint whose subtree carries no inertia along its axis makes H singular.
   std::vector<SpatialInertia> Ic(m.inertia);

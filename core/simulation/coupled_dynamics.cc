@@ -4,6 +4,7 @@
 
 #include "core/dynamics/forward_dynamics.h"
 #include "core/dynamics/joint_damping.h"
+#include "core/dynamics/rnea.h"
 #include "core/geometry/deepest_contact.h"
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
@@ -75,8 +76,9 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
   }
 }
 
-void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out) {
-  // The couplings need world poses; the dynamics then reuse these placements.
+void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
+                               bool step_start) {
+  // The couplings need world poses; the dynamics then reuse them.
   const bool placed = in.ncouplings > 0;
   if (placed) bodyKinematics(model_, data_, q);
   clearExternalForces(fext_);
@@ -89,12 +91,22 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
     addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot, u.torque}, fext_);
     any = true;
   }
+  const std::vector<Force>* fext = any ? &fext_ : nullptr;
+  const bool resolve = step_start && in.inverse_dynamics;
+  if (resolve) {  // the controller's torque and the plant's bias, one pass
+    if (placed) rneaAndBiasAtPlacements(model_, data_, v, in.qdd_cmd, fext);
+    else rneaAndBias(model_, data_, q, v, in.qdd_cmd, fext);
+    in.tau = data_.tau;
+    if (scene_.joint_damping) in.tau += jointDamping(model_).cwiseProduct(v);
+    if (model_.floating_base) in.tau.head<6>().setZero();
+  }
   tau_total_ = in.tau;
   if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
   if (!limits_.empty()) limits_.apply(q, v, tau_total_, out.limit_k, out.limit_b);
-  const std::vector<Force>* fext = any ? &fext_ : nullptr;
-  if (!(placed ? forwardDynamicsAtPlacements(model_, data_, v, tau_total_, fext)
-               : forwardDynamics(model_, data_, q, v, tau_total_, fext))) {
+  const bool solved = resolve  ? forwardDynamicsAtBias(model_, data_, tau_total_, placed)
+                      : placed ? forwardDynamicsAtPoses(model_, data_, v, tau_total_, fext)
+                               : forwardDynamics(model_, data_, q, v, tau_total_, fext);
+  if (!solved) {
     out.qdd.setConstant(std::numeric_limits<double>::quiet_NaN());  // caught by the divergence guard
     return;
   }

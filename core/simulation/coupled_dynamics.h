@@ -45,10 +45,17 @@ struct Coupling {
 };
 
 struct CoupledInputs {
-  const VectorX& tau;          // controller torque, held over the step
+  VectorX& tau;                // controller torque, held over the step (see inverse_dynamics)
   const Coupling* couplings;   // the hands, in a stated order (the server's: by client id)
   int ncouplings;
   double hold_rate;            // 1/s: -hold_rate H v while a user interacts (0: none)
+  // The controller as inverse dynamics at the step's start state: the step's first evaluation
+  // (every scheme's is at the start) writes tau = rnea(q0, v0, *qdd_cmd), the computed torque, or
+  // with qdd_cmd null b(q0, v0), the hold's gravity and Coriolis compensation; plus D v0 when the
+  // scene has joint damping; zero on a floating base's six unactuated coordinates. It comes from
+  // the same pass as the plant's bias (rneaAndBias): the two share placements and velocities.
+  bool inverse_dynamics = false;
+  const VectorX* qdd_cmd = nullptr;
 };
 
 // The user's force at one evaluated state, and its linearisation.
@@ -79,19 +86,24 @@ class CoupledDynamics {
   CoupledDynamics(const Model& model, const Scene& scene);
 
   CoupledEvaluation makeEvaluation() const;
-  void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out);
+  // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau.
+  void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
+                bool step_start = true);
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
   void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, MatrixX& A,
                     VectorX& rhs);
 
   // The evaluator the integrators take (integrators.h): these dynamics with
-  // one step's inputs bound.
+  // one step's inputs bound. Its first evaluation is the step's start state.
   class Bound {
    public:
     using Evaluation = CoupledEvaluation;
     Bound(CoupledDynamics& d, const CoupledInputs& in) : d_(d), in_(in) {}
     Evaluation makeEvaluation() const { return d_.makeEvaluation(); }
-    void evaluate(const VectorX& q, const VectorX& v, Evaluation& out) { d_.evaluate(in_, q, v, out); }
+    void evaluate(const VectorX& q, const VectorX& v, Evaluation& out) {
+      d_.evaluate(in_, q, v, out, !started_);
+      started_ = true;
+    }
     void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) {
       d_.linearSystem(in_, at, v, h, A, rhs);
     }
@@ -99,6 +111,7 @@ class CoupledDynamics {
    private:
     CoupledDynamics& d_;
     const CoupledInputs& in_;
+    bool started_ = false;
   };
   Bound bind(const CoupledInputs& in) { return Bound(*this, in); }
 

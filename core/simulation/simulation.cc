@@ -6,8 +6,6 @@
 #include <stdexcept>
 
 #include "core/dynamics/forward_dynamics.h"
-#include "core/dynamics/joint_damping.h"
-#include "core/dynamics/rnea.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
 #include "core/scene/trajectory_file.h"
@@ -149,7 +147,6 @@ Simulation::HandTrack& Simulation::track(int32_t client) {
 // in client-id order) and the controller torque; a quintic resume trajectory
 // when the last interaction ends.
 void Simulation::computeControl(const HandInputs& inputs) {
-  const Model& m = *model_;
   outcome_ = StepOutcome{};
   // Client-id order (a handful: insertion sort, no allocation); equal ids keep their order.
   const int n = std::min(inputs.n, kMaxHands);
@@ -228,20 +225,21 @@ void Simulation::computeControl(const HandInputs& inputs) {
     }
   }
   hold_rate_ = (interacting_ && active_) ? scene_.hold_damping : 0.0;
+  // The torque itself is inverse dynamics at the start state, which the step's first evaluation
+  // computes in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics): it adds
+  // the joint damping's D v and leaves a floating base unactuated.
+  inverse_dynamics_ = active_ != nullptr;
   if (!active_) {
     tau_.setZero();  // no trajectory: a passive robot
   } else if (interacting_) {
     // Hold: gravity and Coriolis compensation (and joint damping); the
     // dynamics add the hold damping. The users' forces move the robot.
-    tau_ = bias(m, *data_, q_, v_);
-    if (scene_.joint_damping) tau_ += jointDamping(m).cwiseProduct(v_);
+    qdd_cmd_ptr_ = nullptr;
   } else {
     active_->evaluate(t_ - active_offset_, q_ref_, qd_ref_, qdd_ref_);
     qdd_cmd_ = qdd_ref_ + resolved_.kp.cwiseProduct(q_ref_ - q_) + resolved_.kd.cwiseProduct(qd_ref_ - v_);
-    tau_ = rnea(m, *data_, q_, v_, qdd_cmd_);  // computed torque by inverse dynamics
-    if (scene_.joint_damping) tau_ += jointDamping(m).cwiseProduct(v_);
+    qdd_cmd_ptr_ = &qdd_cmd_;  // computed torque by inverse dynamics
   }
-  if (m.floating_base) tau_.head<6>().setZero();  // the base is not actuated
 }
 
 bool Simulation::step(const InteractionInput* input) {
@@ -253,7 +251,7 @@ bool Simulation::step(const InteractionInput* input) {
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
   computeControl(hands);
-  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_};
+  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_, qdd_cmd_ptr_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
   // What the step reports is the evaluation at its start state.

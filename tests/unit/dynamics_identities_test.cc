@@ -109,6 +109,45 @@ TEST_P(Identities, ExternalForcesEnterAsMinusJacobianTranspose) {
   }
 }
 
+// The server step's fused pass gives, bit for bit, what the controller's rnea (or bias) and the
+// plant's bias with external forces give alone: the replay suites' identity rests on it.
+TEST_P(Identities, RneaAndBiasEqualTheSeparateCallsBitForBit) {
+  std::mt19937 rng(13);
+  std::vector<Force> fext(static_cast<size_t>(model.nb));
+  Data separate(model);
+  for (int s = 0; s < 50; ++s) {
+    const VectorX q = randomConfiguration(model, rng), v = randomVector(model.nv, rng, 2.0);
+    const VectorX a = randomVector(model.nv, rng, 5.0);
+    bodyKinematics(model, *data, q);
+    clearExternalForces(fext);
+    for (const auto& pf : randomForces(rng)) addPointForce(model, *data, pf, fext);
+    const bool with_fext = s % 2 == 0, at_placements = s % 3 == 0;
+    const std::vector<Force>* f = with_fext ? &fext : nullptr;
+    for (const VectorX* acc : {&a, static_cast<const VectorX*>(nullptr)}) {
+      const VectorX tau = acc ? rnea(model, separate, q, v, *acc) : bias(model, separate, q, v);
+      const VectorX b = bias(model, separate, q, v, f);
+      if (at_placements) {
+        bodyKinematics(model, *data, q);
+        rneaAndBiasAtPlacements(model, *data, v, acc, f);
+      } else {
+        rneaAndBias(model, *data, q, v, acc, f);
+      }
+      for (int k = 0; k < model.nv; ++k) {
+        ASSERT_EQ(data->tau[k], tau[k]) << "tau, dof " << k << (acc ? " (rnea)" : " (bias)");
+        ASSERT_EQ(data->bias[k], b[k]) << "bias, dof " << k << (with_fext ? " with fext" : "");
+      }
+      // and the forward dynamics from that bias (with the world poses bodyKinematics left, or
+      // composing its own) is forwardDynamics's, as is forwardDynamicsAtPoses's
+      ASSERT_TRUE(forwardDynamics(model, separate, q, v, tau, f));
+      ASSERT_TRUE(forwardDynamicsAtBias(model, *data, tau, at_placements));
+      for (int k = 0; k < model.nv; ++k) ASSERT_EQ(data->qdd[k], separate.qdd[k]) << "qdd, dof " << k;
+      bodyKinematics(model, *data, q);
+      ASSERT_TRUE(forwardDynamicsAtPoses(model, *data, v, tau, f));
+      for (int k = 0; k < model.nv; ++k) ASSERT_EQ(data->qdd[k], separate.qdd[k]) << "qdd at poses, dof " << k;
+    }
+  }
+}
+
 TEST_P(Identities, PowerBalanceHoldsAlongMotion) {
   // v^T Hdot v = 2 v^T C(q, v) v: the kinetic energy changes only through work.
   std::mt19937 rng(4);
