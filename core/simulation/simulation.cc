@@ -225,20 +225,16 @@ void Simulation::computeControl(const HandInputs& inputs) {
     }
   }
   hold_rate_ = (interacting_ && active_) ? scene_.hold_damping : 0.0;
-  // The torque itself is inverse dynamics at the start state, which the step's first evaluation
-  // computes in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics): it adds
-  // the joint damping's D v and leaves a floating base unactuated.
-  inverse_dynamics_ = active_ != nullptr;
+  // The torque is inverse dynamics at the start state, which the step's first evaluation computes
+  // in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics, set in step): it adds
+  // the joint damping's D v and leaves a floating base unactuated. While a hand acts, it is the
+  // hold's gravity and Coriolis compensation (the dynamics add the hold damping: the users' forces
+  // move the robot); otherwise the computed torque of qdd_cmd_.
   if (!active_) {
     tau_.setZero();  // no trajectory: a passive robot
-  } else if (interacting_) {
-    // Hold: gravity and Coriolis compensation (and joint damping); the
-    // dynamics add the hold damping. The users' forces move the robot.
-    qdd_cmd_ptr_ = nullptr;
-  } else {
+  } else if (!interacting_) {
     active_->evaluate(t_ - active_offset_, q_ref_, qd_ref_, qdd_ref_);
     qdd_cmd_ = qdd_ref_ + resolved_.kp.cwiseProduct(q_ref_ - q_) + resolved_.kd.cwiseProduct(qd_ref_ - v_);
-    qdd_cmd_ptr_ = &qdd_cmd_;  // computed torque by inverse dynamics
   }
 }
 
@@ -251,7 +247,8 @@ bool Simulation::step(const InteractionInput* input) {
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
   computeControl(hands);
-  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_, qdd_cmd_ptr_};
+  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, active_ != nullptr,
+                             interacting_ ? nullptr : &qdd_cmd_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
   // What the step reports is the evaluation at its start state.

@@ -198,8 +198,6 @@ class Simulation {
   const PiecewisePolynomial* active_ = nullptr;
   VectorX q_, v_, qdd_, tau_, goal_, zero_;
   VectorX q_ref_, qd_ref_, qdd_ref_, qdd_cmd_;
-  bool inverse_dynamics_ = false;           // the step's torque: see computeControl
-  const VectorX* qdd_cmd_ptr_ = nullptr;    // &qdd_cmd_ (computed torque) or null (the hold's compensation)
   double t_ = 0.0;
   int64_t steps_ = 0;
   bool interacting_ = false;
