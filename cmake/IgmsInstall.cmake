@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 
 set(IGMS_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/igms)
 set(igms_export_targets igms_model igms_kinematics igms_dynamics igms_model_io igms_integrate igms_realtime
-    igms_geometry igms_interaction igms_trajectory igms_scene igms_simulation)
+    igms_geometry igms_contact igms_interaction igms_trajectory igms_scene igms_simulation)
 if(IGMS_WITH_LCM)
   list(APPEND igms_export_targets igms_lcmtypes)
 endif()

@@ -123,7 +123,8 @@ SessionScene describeSession(const session_info_t& info,
     }
     hello["obstacles"] = obstacles;
     int traced = r.pull_frame;
-    if (s.trajectory.kind == TrajectorySpec::Kind::CartesianLine) traced = m.frameIndex(s.trajectory.frame);
+    if (const RobotSpec* robot = s.robot(); robot && robot->trajectory.kind == TrajectorySpec::Kind::CartesianLine)
+      traced = m.frameIndex((robot->name.empty() ? "" : robot->name + "/") + robot->trajectory.frame);
     if (traced < 0) traced = static_cast<int>(m.frames.size()) - 1;
     hello["traced_link"] = traced;
     double nominal_end = 0.0;

@@ -18,7 +18,16 @@
 // Every scheme leaves the evaluation at the step's start state in
 // scratch.start: that is what a step reports (acceleration, force), never
 // whatever a later stage left behind.
+//
+// An evaluator with contact (an environment) also has
+//   bool hasContacts() const;
+//   void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
+// which the two Euler schemes call after their unconstrained velocity update: v0 the start velocity,
+// v in v_free and out v+, factored the step's matrix (the linearly-implicit A, factored; null: H's),
+// and the positions then move with v_position. RK4 has no contact step (a scene with contact refuses it).
 #pragma once
+
+#include <type_traits>
 
 #include "core/dynamics/ltdl.h"
 #include "core/integrate/integrator_kind.h"
@@ -39,10 +48,25 @@ struct IntegratorScratch {
   VectorX rhs, diag;
 };
 
+// Does the evaluator take a contact step (constrain)?
+template <typename T, typename = void>
+struct HasContactStep : std::false_type {};
+template <typename T>
+struct HasContactStep<T, std::void_t<decltype(&T::constrain)>> : std::true_type {};
+
 // v+ = v + h f(q, v); q+ = q (+) h v+. Stable for a spring only while k h^2 / m < 4.
 template <typename Eval, typename Scratch>
 void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
   f.evaluate(q, v, s.start);
+  if constexpr (HasContactStep<Eval>::value) {
+    if (f.hasContacts()) {
+      s.v2 = v;
+      v += h * s.start.qdd;
+      f.constrain(s.v2, h, nullptr, v, s.v3);
+      integrateConfiguration(m, q, s.v3, h, q);
+      return;
+    }
+  }
   v += h * s.start.qdd;
   integrateConfiguration(m, q, v, h, q);
 }
@@ -87,6 +111,15 @@ bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, doubl
   f.linearSystem(s.start, v, h, s.A, s.rhs);
   if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag) >= 0) return false;
   ltdlSolve(m.dof_parent, m.dof_run_start, s.A, s.rhs);
+  if constexpr (HasContactStep<Eval>::value) {
+    if (f.hasContacts()) {
+      s.v2 = v;
+      v += s.rhs;
+      f.constrain(s.v2, h, &s.A, v, s.v3);
+      integrateConfiguration(m, q, s.v3, h, q);
+      return true;
+    }
+  }
   v += s.rhs;
   integrateConfiguration(m, q, v, h, q);
   return true;

@@ -25,19 +25,29 @@ enum class JointType { Revolute, Prismatic, Floating };
 
 const char* jointTypeName(JointType t);
 
-// Collision geometry, kept for the collision world (FCL) of later stages.
+// Collision geometry: what the tip touches, what bodies touch each other with (core/contact), and
+// what the obstacle monitor (FCL) tests. Cylinders and capsules lie along their frame's z axis; a
+// plane is its frame's z = 0 with the solid below (the ground).
 struct CollisionShape {
-  enum class Kind { Box, Cylinder, Sphere, Mesh };
+  enum class Kind { Box, Cylinder, Sphere, Mesh, Capsule, Plane };
   Kind kind = Kind::Box;
-  Vector3 size = Vector3::Zero();  // box: extents; cylinder: (radius, length, 0); sphere: (radius, 0, 0)
+  // box: extents; cylinder and capsule: (radius, length of the axis between the caps' centres, 0);
+  // sphere: (radius, 0, 0); plane: unused
+  Vector3 size = Vector3::Zero();
   std::string mesh_file;
   Vector3 mesh_scale = Vector3::Ones();
   // Collision meshes: the signed distance field the tip is tested against
   // (null for primitives, visuals, and meshes of descriptions read from text).
   std::shared_ptr<const DistanceField> field;
   std::shared_ptr<const TriangleMesh> triangles;  // the same mesh as triangles (the obstacle monitor's)
+  // Meshes: points spread over the surface (shape frame), what the contact layer tests against the
+  // other shape of a pair (core/model_io/mesh_fields fills them with the field; empty otherwise).
+  std::shared_ptr<const std::vector<Vector3>> samples;
   SE3 placement;                   // in the frame of the link that owns it
 };
+
+// "box", "cylinder", "sphere", "mesh", "capsule", "plane": the scene's word for a shape kind.
+const char* shapeKindName(CollisionShape::Kind kind);
 
 // Visual geometry: what a viewer draws, a shape and its colour.
 struct VisualShape {
@@ -55,6 +65,20 @@ struct Frame {
   std::vector<VisualShape> visuals;
 };
 
+// One tree of a model: a robot (the paper's MultiBody) or a free body (FreeBody: one body on a
+// floating joint). A model from one robot file is one part; a scene's environment model is its
+// robots and free bodies side by side (environment_model.h), each its own tree.
+struct ModelPart {
+  std::string name;        // the scene's name for it ("" for the robot of a one-robot model)
+  bool free_body = false;
+  int body_begin = 0, body_end = 0;    // its bodies
+  int dof_begin = 0, dof_end = 0;      // its velocity coordinates
+  int q_begin = 0, q_end = 0;          // its configuration coordinates
+  int frame_begin = 0, frame_end = 0;  // its frames (links), those fixed to the world included
+  int nv() const { return dof_end - dof_begin; }
+  int nq() const { return q_end - q_begin; }
+};
+
 struct Model {
   std::string name;
   std::string source;  // file the model came from, for messages
@@ -63,7 +87,7 @@ struct Model {
   int nv = 0;  // velocity size (floating base: 6 + joints)
   int nb = 0;  // moving bodies = joints with coordinates
 
-  bool floating_base = false;
+  bool floating_base = false;  // the first part's root is free (a floating base)
   Vector3 gravity = Vector3(0.0, 0.0, -9.81);  // world frame
 
   // Per body (index = joint index: joint i moves body i).
@@ -91,13 +115,17 @@ struct Model {
   std::vector<double> lower, upper, effort_limit, velocity_limit;  // inf when absent
 
   std::vector<Frame> frames;       // every URDF link
-  std::string root_link;
+  std::string root_link;           // the first part's root link
+  std::vector<ModelPart> parts;    // the trees, in body order (one for a robot file)
 
   int frameIndex(const std::string& name) const;   // -1 when absent
   int jointIndex(const std::string& name) const;   // -1 when absent
   // The frame's pose in its body frame, and the body it rides on.
   const Frame& frame(int i) const { return frames[static_cast<size_t>(i)]; }
   double totalMass() const;
+  // The part that body b (>= 0) or frame f belongs to.
+  int partOfBody(int b) const;
+  int partOfFrame(int f) const;
 };
 
 }  // namespace igms

@@ -248,6 +248,7 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
       warnings->push_back(where(d) + ": warning: joint '" + m.joint_name[i] +
                           "' moves no mass or inertia along its axis: H is singular, forward dynamics will fail");
   }
+  m.parts.push_back(ModelPart{"", false, 0, m.nb, 0, m.nv, 0, m.nq, 0, static_cast<int>(m.frames.size())});
   // Mimic joints (grippers' fingers): kept as independent coordinates, said so.
   m.joint_mimic.assign(static_cast<size_t>(m.nb), "");
   for (const JointDescription& j : d.joints) {
@@ -283,6 +284,18 @@ std::string textHash(const std::string& text) {
   return out;
 }
 
+const char* shapeKindName(CollisionShape::Kind kind) {
+  switch (kind) {
+    case CollisionShape::Kind::Box: return "box";
+    case CollisionShape::Kind::Cylinder: return "cylinder";
+    case CollisionShape::Kind::Sphere: return "sphere";
+    case CollisionShape::Kind::Mesh: return "mesh";
+    case CollisionShape::Kind::Capsule: return "capsule";
+    case CollisionShape::Kind::Plane: return "plane";
+  }
+  return "?";
+}
+
 int Model::frameIndex(const std::string& n) const {
   for (size_t i = 0; i < frames.size(); ++i)
     if (frames[i].name == n) return static_cast<int>(i);
@@ -292,6 +305,18 @@ int Model::frameIndex(const std::string& n) const {
 int Model::jointIndex(const std::string& n) const {
   for (size_t i = 0; i < joint_name.size(); ++i)
     if (joint_name[i] == n) return static_cast<int>(i);
+  return -1;
+}
+
+int Model::partOfBody(int b) const {
+  for (size_t k = 0; k < parts.size(); ++k)
+    if (b >= parts[k].body_begin && b < parts[k].body_end) return static_cast<int>(k);
+  return -1;
+}
+
+int Model::partOfFrame(int f) const {
+  for (size_t k = 0; k < parts.size(); ++k)
+    if (f >= parts[k].frame_begin && f < parts[k].frame_end) return static_cast<int>(k);
   return -1;
 }
 

@@ -13,6 +13,7 @@
 #include "core/model_io/distance_field_builder.h"
 #include "core/model_io/distance_field_cache.h"
 #include "core/model_io/mesh_reader.h"
+#include "core/model_io/mesh_samples.h"
 #include "core/model_io/resource_path.h"
 
 namespace igms {
@@ -27,6 +28,7 @@ void attachDistanceFields(RobotDescription& description, const std::string& urdf
     std::optional<DistanceField> field;
     std::shared_ptr<const DistanceField> shared_field;
     std::shared_ptr<const TriangleMesh> triangles;
+    std::shared_ptr<const std::vector<Vector3>> samples;
   };
   std::map<std::string, Built> built;
   std::vector<std::pair<CollisionShape*, Built*>> uses;
@@ -96,10 +98,12 @@ void attachDistanceFields(RobotDescription& description, const std::string& urdf
   for (auto& [shape, b] : uses) {
     if (!b->shared_field) {
       b->shared_field = std::make_shared<const DistanceField>(std::move(*b->field));
+      b->samples = std::make_shared<const std::vector<Vector3>>(meshSurfaceSamples(b->mesh));
       b->triangles = std::make_shared<const TriangleMesh>(std::move(b->mesh));
     }
     shape->field = b->shared_field;
     shape->triangles = b->triangles;
+    shape->samples = b->samples;
   }
 }
 

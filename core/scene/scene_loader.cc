@@ -84,8 +84,15 @@ SE3 pose(const Reader& r, const YAML::Node& n) {
   return fromXyzRpy(r.vector3(n, "xyz", Vector3::Zero()), r.vector3(n, "rpy", Vector3::Zero()));
 }
 
-// A box, sphere or cylinder with its pose: obstacles (in the world) and robot.collision (in a link's frame).
-CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string& where) {
+std::string join(const std::string& dir, const std::string& path) {
+  if (path.empty() || path[0] == '/' || dir.empty()) return path;
+  return dir + "/" + path;
+}
+
+// A shape with its pose: obstacles and free bodies (in the world), robot.collision (in a link's frame).
+// Meshes (allow_mesh): file (as written: resolveScene finds it from the scene's folder, or a
+// package://) and scale; their fields come with resolveScene.
+CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string& where, bool allow_mesh = false) {
   CollisionShape c;
   const std::string shape = r.text(o, "shape", "");
   if (shape == "box") {
@@ -96,19 +103,139 @@ CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string
   } else if (shape == "sphere") {
     c.kind = CollisionShape::Kind::Sphere;
     c.size = Vector3(r.positive(o, "radius", 0.0, where), 0, 0);
-  } else if (shape == "cylinder") {
-    c.kind = CollisionShape::Kind::Cylinder;
+  } else if (shape == "cylinder" || shape == "capsule") {
+    c.kind = shape == "cylinder" ? CollisionShape::Kind::Cylinder : CollisionShape::Kind::Capsule;
     c.size = Vector3(r.positive(o, "radius", 0.0, where), r.positive(o, "length", 0.0, where), 0);
+  } else if (shape == "mesh" && allow_mesh) {
+    c.kind = CollisionShape::Kind::Mesh;
+    const std::string file = r.text(o, "file", "");
+    if (file.empty()) r.fail(o, where + ".file", "missing (a mesh file: STL, OBJ, Collada)");
+    c.mesh_file = file;
+    if (o["scale"]) c.mesh_scale = r.numbers(o["scale"], where + ".scale", 3);
+    if ((c.mesh_scale.array() <= 0.0).any()) r.fail(o["scale"], where + ".scale", "must be positive");
   } else {
-    r.fail(o["shape"] ? o["shape"] : o, where + ".shape", "must be box, sphere or cylinder");
+    r.fail(o["shape"] ? o["shape"] : o, where + ".shape",
+           allow_mesh ? "must be box, sphere, cylinder, capsule or mesh" : "must be box, sphere, cylinder or capsule");
   }
   c.placement = pose(r, o);
   return c;
 }
 
-std::string join(const std::string& dir, const std::string& path) {
-  if (path.empty() || path[0] == '/' || dir.empty()) return path;
-  return dir + "/" + path;
+}  // namespace
+
+namespace {
+
+// robot.collision (or a robots: entry's collision:): per link, shapes instead of the URDF's; the item
+// from_urdf keeps the URDF's too.
+std::vector<LinkCollision> linkCollisions(const Reader& r, const YAML::Node& collision, const std::string& at) {
+  std::vector<LinkCollision> out;
+  if (!collision.IsMap()) r.fail(collision, at, "expected a map of link names");
+  for (const auto& kv : collision) {
+    LinkCollision lc;
+    lc.link = kv.first.as<std::string>();
+    const std::string where = at + "." + lc.link;
+    if (!kv.second.IsSequence()) r.fail(kv.second, where, "expected a list of shapes (and from_urdf)");
+    for (const auto& item : kv.second) {
+      if (item.IsScalar() && item.as<std::string>() == "from_urdf") {
+        lc.keep_urdf = true;
+        continue;
+      }
+      if (!item.IsMap()) r.fail(item, where + "[]", "expected a shape or from_urdf");
+      r.onlyKeys(item, where + "[]", {"shape", "size", "radius", "length", "xyz", "rpy"});
+      lc.shapes.push_back(primitive(r, item, where + "[]"));
+    }
+    out.push_back(lc);
+  }
+  return out;
+}
+
+void parseInitial(const Reader& r, const YAML::Node& init, const std::string& at, RobotSpec& robot) {
+  r.onlyKeys(init, at, {"q", "v"});
+  if (init["q"]) robot.q0 = r.numbers(init["q"], at + ".q");
+  if (init["v"]) robot.v0 = r.numbers(init["v"], at + ".v");
+}
+
+void parseTrajectory(const Reader& r, const YAML::Node& t, const std::string& at, const std::string& source,
+                     const std::string& base_dir, const std::map<std::string, std::string>* files, TrajectorySpec& out) {
+  r.onlyKeys(t, at, {"kind", "frame", "target", "duration", "waypoints", "file"});
+  const std::string kind = r.text(t, "kind", "none");
+  if (kind == "cartesian_line") {
+    out.kind = TrajectorySpec::Kind::CartesianLine;
+    out.frame = r.text(t, "frame", "");
+    if (!t["target"]) r.fail(t, at + ".target", "missing");
+    out.target = r.vector3(t, "target", Vector3::Zero());
+    out.duration = r.positive(t, "duration", 0.0, at);
+  } else if (kind == "joint_waypoints" || kind == "file") {
+    out.kind = TrajectorySpec::Kind::JointWaypoints;
+    YAML::Node file_doc;  // keeps the loaded file alive while its nodes are read
+    std::string where = source;
+    if (kind == "file") {
+      where = join(base_dir, r.text(t, "file", ""));
+      const auto given = files ? files->find(where) : std::map<std::string, std::string>::const_iterator{};
+      if (files && given != files->end()) {
+        out.file_text = given->second;
+      } else {
+        std::ifstream in(where);
+        if (!in) r.fail(t["file"] ? t["file"] : t, at + ".file", "cannot read '" + where + "'");
+        std::stringstream content;
+        content << in.rdbuf();
+        out.file_text = content.str();
+      }
+      out.file = where;
+      try {
+        file_doc = YAML::Load(out.file_text);
+      } catch (const YAML::Exception& e) {
+        r.fail(t["file"] ? t["file"] : t, at + ".file", "cannot read '" + where + "': " + e.msg);
+      }
+    }
+    // Bound once: yaml-cpp's operator= on a node writes through it instead of rebinding.
+    const YAML::Node points = kind == "file" ? file_doc["waypoints"] : t["waypoints"];
+    if (kind == "file" && file_doc["joints"]) {
+      const YAML::Node names = file_doc["joints"];
+      if (!names.IsSequence()) r.fail(names, at + ".file: joints", "must be a list of joint names in " + where);
+      for (const auto& n : names) out.joint_names.push_back(n.as<std::string>());
+    }
+    if (!points || !points.IsSequence() || points.size() < 2)
+      r.fail(t, at + ".waypoints", "needs a list of two or more {t, q} in " + where);
+    for (const auto& p : points) {
+      out.times.push_back(r.number(p, "t", NAN));
+      if (!std::isfinite(out.times.back())) r.fail(p, at + ".waypoints[].t", "missing");
+      if (!p["q"]) r.fail(p, at + ".waypoints[].q", "missing");
+      out.waypoints.push_back(r.numbers(p["q"], at + ".waypoints[].q"));
+    }
+    for (size_t k = 1; k < out.times.size(); ++k)
+      if (!(out.times[k] > out.times[k - 1])) r.fail(t, at + ".waypoints", "times must increase");
+  } else if (kind != "none") {
+    r.fail(t["kind"], at + ".kind", "must be none, joint_waypoints, file or cartesian_line");
+  }
+}
+
+void parseController(const Reader& r, const YAML::Node& c, const std::string& at, RobotSpec& robot) {
+  r.onlyKeys(c, at, {"kind", "kp", "kd", "hold_damping"});
+  const std::string kind = r.text(c, "kind", "computed_torque");
+  if (kind == "computed_torque") robot.controller = ControllerKind::ComputedTorque;
+  else if (kind == "pd") robot.controller = ControllerKind::Pd;
+  else r.fail(c["kind"], at + ".kind", "must be computed_torque or pd");
+  auto gain = [&](const char* key, double& scalar, VectorX& per_joint) {
+    const YAML::Node g = c[key];
+    if (!g) return;
+    if (g.IsSequence()) per_joint = r.numbers(g, at + "." + key);
+    else scalar = r.number(c, key, scalar);
+    if (scalar < 0.0 || (per_joint.size() && (per_joint.array() < 0.0).any())) r.fail(g, at + "." + key, "must be >= 0");
+  };
+  gain("kp", robot.kp_scalar, robot.kp);
+  gain("kd", robot.kd_scalar, robot.kd);
+  robot.hold_damping = r.number(c, "hold_damping", robot.hold_damping);
+}
+
+std::string materialName(const Reader& r, const YAML::Node& n, const std::string& at, const Scene& s) {
+  const std::string name = r.text(n, "material", "");
+  if (!name.empty() && !s.materials.count(name)) {
+    std::string known;
+    for (const auto& [k, v] : s.materials) known += (known.empty() ? "" : ", ") + k;
+    r.fail(n["material"], at + ".material", "unknown material '" + name + "' (the scene's: " + known + ")");
+  }
+  return name;
 }
 
 }  // namespace
@@ -124,127 +251,145 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   }
   if (!root.IsMap()) throw SceneError(source + ": expected a YAML map");
   r.onlyKeys(root, "scene",
-             {"name", "robot", "gravity", "initial", "obstacles", "trajectory", "controller", "interaction",
-              "simulation"});
+             {"name", "robot", "robots", "gravity", "initial", "obstacles", "trajectory", "controller", "interaction",
+              "simulation", "bodies", "ground", "materials", "contact"});
   Scene s;
   s.source = source;
   s.text = yaml;
   s.name = r.text(root, "name", "scene");
+  s.gravity = r.vector3(root, "gravity", Vector3(0, 0, -9.81));
 
-  const YAML::Node robot = root["robot"];
-  if (!robot) r.fail(root, "robot", "missing");
-  r.onlyKeys(robot, "robot", {"model", "floating_base", "collision"});
-  const std::string model = r.text(robot, "model", "");
-  if (model.empty()) r.fail(robot, "robot.model", "missing");
-  s.model_path = join(base_dir, model);
-  s.build.floating_base = r.flag(robot, "floating_base", false);
-  if (const YAML::Node collision = robot["collision"]) {
-    // Per link: its collision shapes instead of the URDF's; the item from_urdf keeps the URDF's too.
-    if (!collision.IsMap()) r.fail(collision, "robot.collision", "expected a map of link names");
-    for (const auto& kv : collision) {
-      LinkCollision lc;
-      lc.link = kv.first.as<std::string>();
-      const std::string where = "robot.collision." + lc.link;
-      if (!kv.second.IsSequence()) r.fail(kv.second, where, "expected a list of shapes (and from_urdf)");
-      for (const auto& item : kv.second) {
-        if (item.IsScalar() && item.as<std::string>() == "from_urdf") {
-          lc.keep_urdf = true;
-          continue;
-        }
-        if (!item.IsMap()) r.fail(item, where + "[]", "expected a shape or from_urdf");
-        r.onlyKeys(item, where + "[]", {"shape", "size", "radius", "length", "xyz", "rpy"});
-        lc.shapes.push_back(primitive(r, item, where + "[]"));
-      }
-      s.collision.push_back(lc);
+  s.materials["default"] = Material{};
+  if (const YAML::Node materials = root["materials"]) {
+    if (!materials.IsMap()) r.fail(materials, "materials", "expected a map of material names");
+    for (const auto& kv : materials) {
+      const std::string name = kv.first.as<std::string>();
+      const std::string at = "materials." + name;
+      r.onlyKeys(kv.second, at, {"friction", "restitution"});
+      Material m;
+      m.friction = r.number(kv.second, "friction", m.friction);
+      if (m.friction < 0.0) r.fail(kv.second["friction"], at + ".friction", "must be >= 0");
+      m.restitution = r.number(kv.second, "restitution", m.restitution);
+      if (m.restitution < 0.0 || m.restitution > 1.0) r.fail(kv.second["restitution"], at + ".restitution", "must be in [0, 1]");
+      s.materials[name] = m;
     }
   }
-  s.build.gravity = r.vector3(root, "gravity", Vector3(0, 0, -9.81));
 
-  if (const YAML::Node init = root["initial"]) {
-    r.onlyKeys(init, "initial", {"q", "v"});
-    if (init["q"]) s.q0 = r.numbers(init["q"], "initial.q");
-    if (init["v"]) s.v0 = r.numbers(init["v"], "initial.v");
+  const YAML::Node robot = root["robot"], robots = root["robots"];
+  if (robot && robots) r.fail(robots, "robots", "give robot: (one) or robots: (several), not both");
+  auto parseRobot = [&](const YAML::Node& n, const std::string& at, bool short_form) {
+    RobotSpec spec;
+    if (short_form) r.onlyKeys(n, at, {"model", "floating_base", "collision", "base", "material"});
+    else
+      r.onlyKeys(n, at, {"name", "model", "floating_base", "collision", "base", "material", "initial", "trajectory",
+                         "controller"});
+    const std::string model = r.text(n, "model", "");
+    if (model.empty()) r.fail(n, at + ".model", "missing");
+    spec.model_path = join(base_dir, model);
+    spec.floating_base = r.flag(n, "floating_base", false);
+    if (const YAML::Node base = n["base"]) {
+      r.onlyKeys(base, at + ".base", {"xyz", "rpy"});
+      spec.base = pose(r, base);
+    }
+    if (const YAML::Node collision = n["collision"]) spec.collision = linkCollisions(r, collision, at + ".collision");
+    spec.material = materialName(r, n, at, s);
+    if (!short_form) {
+      spec.name = r.text(n, "name", "robot" + std::to_string(s.robots.size()));
+      if (spec.name.empty() || spec.name.find('/') != std::string::npos) r.fail(n, at + ".name", "must be a name without '/'");
+      for (const RobotSpec& other : s.robots)
+        if (other.name == spec.name) r.fail(n, at + ".name", "another robot is named '" + spec.name + "'");
+      if (const YAML::Node init = n["initial"]) parseInitial(r, init, at + ".initial", spec);
+      if (const YAML::Node t = n["trajectory"]) parseTrajectory(r, t, at + ".trajectory", source, base_dir, files, spec.trajectory);
+      if (const YAML::Node c = n["controller"]) parseController(r, c, at + ".controller", spec);
+    }
+    s.robots.push_back(spec);
+  };
+  if (robot) {
+    parseRobot(robot, "robot", true);
+    RobotSpec& spec = s.robots.back();
+    if (const YAML::Node init = root["initial"]) parseInitial(r, init, "initial", spec);
+    if (const YAML::Node t = root["trajectory"]) parseTrajectory(r, t, "trajectory", source, base_dir, files, spec.trajectory);
+    if (const YAML::Node c = root["controller"]) parseController(r, c, "controller", spec);
+  } else {
+    for (const char* key : {"initial", "trajectory", "controller"})
+      if (root[key]) r.fail(root[key], key, std::string("belongs to a robot: robot: (one) or inside each of robots:"));
+    if (robots) {
+      if (!robots.IsSequence() || robots.size() == 0) r.fail(robots, "robots", "expected a list of robots");
+      for (size_t k = 0; k < robots.size(); ++k) parseRobot(robots[k], "robots[" + std::to_string(k) + "]", false);
+    }
+  }
+
+  if (const YAML::Node bodies = root["bodies"]) {
+    if (!bodies.IsSequence()) r.fail(bodies, "bodies", "expected a list of free bodies");
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      const YAML::Node b = bodies[k];
+      const std::string at = "bodies[" + std::to_string(k) + "]";
+      r.onlyKeys(b, at, {"name", "shape", "size", "radius", "length", "file", "scale", "mass", "density", "inertia",
+                         "xyz", "rpy", "v", "w", "material", "color"});
+      FreeBodySpec body;
+      body.name = r.text(b, "name", "body" + std::to_string(k));
+      if (body.name.empty() || body.name.find('/') != std::string::npos) r.fail(b, at + ".name", "must be a name without '/'");
+      for (const FreeBodySpec& other : s.bodies)
+        if (other.name == body.name) r.fail(b, at + ".name", "another body is named '" + body.name + "'");
+      body.shape = primitive(r, b, at, true);
+      body.pose = body.shape.placement;
+      body.shape.placement = SE3::Identity();
+      if (b["mass"] && b["density"]) r.fail(b["density"], at + ".density", "give mass or density, not both");
+      if (b["mass"]) body.mass = r.positive(b, "mass", 1.0, at);
+      body.density = r.positive(b, "density", body.density, at);
+      if (const YAML::Node inertia = b["inertia"]) {
+        const VectorX i = r.numbers(inertia, at + ".inertia", 6);
+        body.has_inertia = true;
+        body.inertia << i[0], i[3], i[4], i[3], i[1], i[5], i[4], i[5], i[2];
+      }
+      body.velocity = r.vector3(b, "v", Vector3::Zero());
+      body.angular_velocity = r.vector3(b, "w", Vector3::Zero());
+      body.material = materialName(r, b, at, s);
+      if (b["color"]) {
+        const VectorX c = r.numbers(b["color"], at + ".color", 4);
+        body.rgba = c;
+      }
+      s.bodies.push_back(body);
+    }
+  }
+  if (s.robots.empty() && s.bodies.empty()) r.fail(root, "robot", "missing (robot:, robots: or bodies: says what moves)");
+
+  if (const YAML::Node ground = root["ground"]) {
+    if (ground.IsScalar()) {
+      s.ground.enabled = r.flag(root, "ground", false);
+    } else {
+      r.onlyKeys(ground, "ground", {"height", "rpy", "material"});
+      s.ground.enabled = true;
+      s.ground.pose = fromXyzRpy(Vector3(0.0, 0.0, r.number(ground, "height", 0.0)), r.vector3(ground, "rpy", Vector3::Zero()));
+      s.ground.material = materialName(r, ground, "ground", s);
+    }
   }
 
   if (const YAML::Node obstacles = root["obstacles"]) {
     if (!obstacles.IsSequence()) r.fail(obstacles, "obstacles", "expected a list");
     for (const auto& o : obstacles) {
-      r.onlyKeys(o, "obstacles[]", {"name", "shape", "size", "radius", "length", "xyz", "rpy"});
+      r.onlyKeys(o, "obstacles[]", {"name", "shape", "size", "radius", "length", "file", "scale", "xyz", "rpy", "solid",
+                                    "material"});
       Obstacle ob;
       ob.name = r.text(o, "name", "obstacle" + std::to_string(s.obstacles.size()));
-      ob.shape = primitive(r, o, "obstacles[]");
+      ob.shape = primitive(r, o, "obstacles[]", true);
+      ob.solid = r.flag(o, "solid", false);
+      ob.material = materialName(r, o, "obstacles[]", s);
       s.obstacles.push_back(ob);
     }
   }
 
-  if (const YAML::Node t = root["trajectory"]) {
-    r.onlyKeys(t, "trajectory", {"kind", "frame", "target", "duration", "waypoints", "file"});
-    const std::string kind = r.text(t, "kind", "none");
-    if (kind == "cartesian_line") {
-      s.trajectory.kind = TrajectorySpec::Kind::CartesianLine;
-      s.trajectory.frame = r.text(t, "frame", "");
-      if (!t["target"]) r.fail(t, "trajectory.target", "missing");
-      s.trajectory.target = r.vector3(t, "target", Vector3::Zero());
-      s.trajectory.duration = r.positive(t, "duration", 0.0, "trajectory");
-    } else if (kind == "joint_waypoints" || kind == "file") {
-      s.trajectory.kind = TrajectorySpec::Kind::JointWaypoints;
-      YAML::Node file_doc;  // keeps the loaded file alive while its nodes are read
-      std::string where = source;
-      if (kind == "file") {
-        where = join(base_dir, r.text(t, "file", ""));
-        const auto given = files ? files->find(where) : std::map<std::string, std::string>::const_iterator{};
-        if (files && given != files->end()) {
-          s.trajectory.file_text = given->second;
-        } else {
-          std::ifstream in(where);
-          if (!in) r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + where + "'");
-          std::stringstream content;
-          content << in.rdbuf();
-          s.trajectory.file_text = content.str();
-        }
-        s.trajectory.file = where;
-        try {
-          file_doc = YAML::Load(s.trajectory.file_text);
-        } catch (const YAML::Exception& e) {
-          r.fail(t["file"] ? t["file"] : t, "trajectory.file", "cannot read '" + where + "': " + e.msg);
-        }
-      }
-      // Bound once: yaml-cpp's operator= on a node writes through it instead of rebinding.
-      const YAML::Node points = kind == "file" ? file_doc["waypoints"] : t["waypoints"];
-      if (kind == "file" && file_doc["joints"]) {
-        const YAML::Node names = file_doc["joints"];
-        if (!names.IsSequence()) r.fail(names, "trajectory.file: joints", "must be a list of joint names in " + where);
-        for (const auto& n : names) s.trajectory.joint_names.push_back(n.as<std::string>());
-      }
-      if (!points || !points.IsSequence() || points.size() < 2)
-        r.fail(t, "trajectory.waypoints", "needs a list of two or more {t, q} in " + where);
-      for (const auto& p : points) {
-        s.trajectory.times.push_back(r.number(p, "t", NAN));
-        if (!std::isfinite(s.trajectory.times.back())) r.fail(p, "trajectory.waypoints[].t", "missing");
-        if (!p["q"]) r.fail(p, "trajectory.waypoints[].q", "missing");
-        s.trajectory.waypoints.push_back(r.numbers(p["q"], "trajectory.waypoints[].q"));
-      }
-      for (size_t k = 1; k < s.trajectory.times.size(); ++k)
-        if (!(s.trajectory.times[k] > s.trajectory.times[k - 1]))
-          r.fail(t, "trajectory.waypoints", "times must increase");
-    } else if (kind != "none") {
-      r.fail(t["kind"], "trajectory.kind", "must be none, joint_waypoints, file or cartesian_line");
-    }
-  }
-
-  if (const YAML::Node c = root["controller"]) {
-    r.onlyKeys(c, "controller", {"kp", "kd", "hold_damping"});
-    auto gain = [&](const char* key, double& scalar, VectorX& per_joint) {
-      const YAML::Node g = c[key];
-      if (!g) return;
-      if (g.IsSequence()) per_joint = r.numbers(g, std::string("controller.") + key);
-      else scalar = r.number(c, key, scalar);
-      if (scalar < 0.0 || (per_joint.size() && (per_joint.array() < 0.0).any()))
-        r.fail(g, std::string("controller.") + key, "must be >= 0");
-    };
-    gain("kp", s.kp_scalar, s.kp);
-    gain("kd", s.kd_scalar, s.kd);
-    s.hold_damping = r.number(c, "hold_damping", s.hold_damping);
+  if (const YAML::Node c = root["contact"]) {
+    r.onlyKeys(c, "contact", {"self_collision", "margin", "iterations", "tolerance", "bounce_velocity", "max_contacts"});
+    ContactSettings& k = s.contact;
+    k.self_collision = r.flag(c, "self_collision", k.self_collision);
+    k.margin = r.positive(c, "margin", k.margin, "contact");
+    k.iterations = static_cast<int>(r.positive(c, "iterations", k.iterations, "contact"));
+    k.tolerance = r.positive(c, "tolerance", k.tolerance, "contact");
+    k.bounce_velocity = r.number(c, "bounce_velocity", k.bounce_velocity);
+    if (k.bounce_velocity < 0.0) r.fail(c["bounce_velocity"], "contact.bounce_velocity", "must be >= 0 (m/s)");
+    k.max_contacts = static_cast<int>(r.number(c, "max_contacts", 0));
+    if (k.max_contacts < 0) r.fail(c["max_contacts"], "contact.max_contacts", "must be >= 0 (0: from the scene's size)");
   }
 
   if (const YAML::Node in = root["interaction"]) {

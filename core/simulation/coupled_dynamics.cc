@@ -1,7 +1,9 @@
 #include "core/simulation/coupled_dynamics.h"
 
+#include <algorithm>
 #include <limits>
 
+#include "core/dynamics/crba.h"
 #include "core/dynamics/forward_dynamics.h"
 #include "core/dynamics/joint_damping.h"
 #include "core/dynamics/rnea.h"
@@ -10,13 +12,37 @@
 #include "core/interaction/push.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
+#include "core/model/ancestor_runs.h"
 #include "core/model/configuration.h"
 
 namespace igms {
 
-CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s)
-    : model_(m), scene_(s), limits_(m, s.q0.size() == m.nq ? s.q0 : neutralConfiguration(m), s.joint_limits), data_(m), tau_total_(VectorX::Zero(m.nv)), fext_(static_cast<size_t>(m.nb)),
-      KJ_(6, m.nv), J_(6, m.nv) {}
+CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s, const VectorX& q_reference, const ContactModel* contacts)
+    : model_(m), scene_(s), limits_(m, q_reference, s.joint_limits), data_(m), tau_total_(VectorX::Zero(m.nv)),
+      fext_(static_cast<size_t>(m.nb)), KJ_(6, m.nv), J_(6, m.nv) {
+  for (int i = 0; i < m.nb; ++i)
+    if (m.joint_type[i] == JointType::Floating) floating_.push_back(DofRange{m.v_index[i], m.v_index[i] + 6, 0.0});
+  if (contacts && !contacts->empty()) {
+    contacts_ = contacts;
+    detection_ = std::make_unique<ContactDetection>(*contacts);
+    solver_ = std::make_unique<ContactSolver>(m, *contacts);
+    contact_set_ = ContactSet(contacts->capacity());
+  }
+}
+
+const ContactSolveStats& CoupledDynamics::contactStats() const {
+  static const ContactSolveStats kNone;
+  return solver_ ? solver_->stats() : kNone;
+}
+
+void CoupledDynamics::resetContacts() {
+  contact_set_.n = 0;
+  if (solver_) solver_->resetWarmStart();
+}
+
+void CoupledDynamics::constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position) {
+  solver_->solve(data_, factored ? *factored : data_.Hfact, h, v0, contact_set_, v, v_position);
+}
 
 CoupledEvaluation CoupledDynamics::makeEvaluation() const {
   CoupledEvaluation e;
@@ -78,9 +104,11 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
 
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                                bool step_start) {
-  // The couplings need world poses; the dynamics then reuse them.
-  const bool placed = in.ncouplings > 0;
+  // The couplings and the contacts need world poses; the dynamics then reuse them.
+  const bool detect = contacts_ && step_start;
+  const bool placed = in.ncouplings > 0 || detect;
   if (placed) bodyKinematics(model_, data_, q);
+  if (detect) detection_->detect(data_, contact_set_);
   clearExternalForces(fext_);
   bool any = false;
   out.ncouplings = in.ncouplings;
@@ -98,11 +126,36 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
     else rneaAndBias(model_, data_, q, v, in.qdd_cmd, fext);
     in.tau = data_.tau;
     if (scene_.joint_damping) in.tau += jointDamping(model_).cwiseProduct(v);
-    if (model_.floating_base) in.tau.head<6>().setZero();
+    for (const DofRange& r : floating_) in.tau.segment(r.begin, r.end - r.begin).setZero();
+    if (in.uncommanded)
+      for (const DofRange& r : *in.uncommanded) in.tau.segment(r.begin, r.end - r.begin).setZero();
   }
   tau_total_ = in.tau;
   if (scene_.joint_damping) addJointDamping(model_, v, tau_total_);
+  if (in.pd.kp) {
+    const VectorX &kp = *in.pd.kp, &kd = *in.pd.kd, &qr = *in.pd.q_ref, &vr = *in.pd.v_ref;
+    for (int i = 0; i < model_.nb; ++i) {
+      if (model_.joint_type[i] == JointType::Floating) continue;
+      const int k = model_.v_index[i];
+      if (kp[k] != 0.0 || kd[k] != 0.0) tau_total_[k] += kp[k] * (qr[k] - q[model_.q_index[i]]) + kd[k] * (vr[k] - v[k]);
+    }
+  }
   if (!limits_.empty()) limits_.apply(q, v, tau_total_, out.limit_k, out.limit_b);
+  if (applied_acceleration_) {
+    // H and the bias, no factors: the step reports what it applied.
+    if (!resolve) biasAtPlacements(model_, data_, v, fext);
+    crbaUpperAtPoses(model_, data_);
+    out.F = tau_total_ - data_.bias;
+    if (in.hold)
+      for (const DofRange& r : *in.hold) {
+        const int n = r.end - r.begin;
+        out.F.segment(r.begin, n).noalias() -=
+            r.rate * (data_.H.block(r.begin, r.begin, n, n).selfadjointView<Eigen::Upper>() * v.segment(r.begin, n));
+      }
+    else if (in.hold_rate > 0.0)
+      out.F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
+    return;
+  }
   const bool solved = resolve  ? forwardDynamicsAtBias(model_, data_, tau_total_, placed)
                       : placed ? forwardDynamicsAtPoses(model_, data_, v, tau_total_, fext)
                                : forwardDynamics(model_, data_, q, v, tau_total_, fext);
@@ -112,7 +165,15 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   }
   out.F = tau_total_ - data_.bias;  // = H qdd
   out.qdd = data_.qdd;
-  if (in.hold_rate > 0.0) {
+  if (in.hold) {
+    // -c H v on each held robot's block: H is block-diagonal across trees, so H^-1 of it is -c v there.
+    for (const DofRange& r : *in.hold) {
+      const int n = r.end - r.begin;
+      out.F.segment(r.begin, n).noalias() -=
+          r.rate * (data_.H.block(r.begin, r.begin, n, n).selfadjointView<Eigen::Upper>() * v.segment(r.begin, n));
+      out.qdd.segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
+    }
+  } else if (in.hold_rate > 0.0) {
     // -c H v: H^-1 of it is exactly -c v.
     out.F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
     out.qdd -= in.hold_rate * v;
@@ -122,10 +183,35 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
 void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h,
                                    MatrixX& A, VectorX& rhs) {
   // Upper triangles only, as forwardDynamics leaves H and as ltdlFactor reads A.
-  A.triangularView<Eigen::Upper>() = data_.H;
+  if (model_.parts.size() > 1) {
+    // An environment: the ancestor entries only (H's others are zero, and stay so in A): a 216-body
+    // pile's dense triangle would be 840 000 entries.
+    const int n = model_.nv;
+    for (int c = 0; c < n; ++c) {
+      const double* const from = data_.H.col(c).data();
+      double* const to = A.col(c).data();
+      forEachAncestorRun(model_.dof_parent, model_.dof_run_start, c,
+                         [&](int r, int j) { std::copy(from + r, from + j + 1, to + r); });
+    }
+  } else {
+    A.triangularView<Eigen::Upper>() = data_.H;
+  }
   rhs = h * at.F;
   if (scene_.joint_damping) A.diagonal() += h * jointDamping(model_);
-  if (in.hold_rate > 0.0) A.triangularView<Eigen::Upper>() += (h * in.hold_rate) * data_.H;
+  if (in.hold) {
+    for (const DofRange& r : *in.hold) {
+      const int n = r.end - r.begin;
+      A.block(r.begin, r.begin, n, n).triangularView<Eigen::Upper>() +=
+          (h * r.rate) * data_.H.block(r.begin, r.begin, n, n);
+    }
+  } else if (in.hold_rate > 0.0) {
+    A.triangularView<Eigen::Upper>() += (h * in.hold_rate) * data_.H;
+  }
+  if (in.pd.kp) {
+    // The PD's -kp dq - kd dv, implicitly: A += h kd + h^2 kp, rhs -= h^2 kp v.
+    A.diagonal() += h * *in.pd.kd + (h * h) * *in.pd.kp;
+    rhs -= (h * h) * in.pd.kp->cwiseProduct(v);
+  }
   if (!limits_.empty()) {
     // The limits' -k d - b s, implicitly: A += h b + h^2 k, rhs -= h^2 k v (zero where none acts).
     A.diagonal() += h * at.limit_b + (h * h) * at.limit_k;

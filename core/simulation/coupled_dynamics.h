@@ -13,8 +13,11 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "core/contact/contact_detection.h"
+#include "core/contact/contact_solver.h"
 #include "core/dynamics/external_force.h"
 #include "core/scene/scene.h"
 #include "core/simulation/joint_limits.h"
@@ -44,11 +47,26 @@ struct Coupling {
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
 };
 
+// Dofs [begin, end) of one tree (a robot's), and the hold's rate there.
+struct DofRange {
+  int begin = 0, end = 0;
+  double rate = 0.0;
+};
+
+// The joint PD of robots that stand or follow by PD (ControllerKind::Pd), per dof: tau += kp (q_ref - q)
+// + kd (v_ref - v) on the joints where kp or kd is non-zero, taken implicitly by the linearly-implicit step.
+struct JointPd {
+  const VectorX* kp = nullptr;     // nv
+  const VectorX* kd = nullptr;     // nv
+  const VectorX* q_ref = nullptr;  // nv: the joint's reference coordinate, at its dof
+  const VectorX* v_ref = nullptr;  // nv
+};
+
 struct CoupledInputs {
   VectorX& tau;                // controller torque, held over the step (see inverse_dynamics)
   const Coupling* couplings;   // the hands, in a stated order (the server's: by client id)
   int ncouplings;
-  double hold_rate;            // 1/s: -hold_rate H v while a user interacts (0: none)
+  double hold_rate;            // 1/s: -hold_rate H v while a user interacts (0: none); all dofs unless hold below
   // The controller as inverse dynamics at the step's start state: the step's first evaluation
   // (every scheme's is at the start) writes tau = rnea(q0, v0, *qdd_cmd), the computed torque, or
   // with qdd_cmd null b(q0, v0), the hold's gravity and Coriolis compensation; plus D v0 when the
@@ -56,6 +74,11 @@ struct CoupledInputs {
   // the same pass as the plant's bias (rneaAndBias): the two share placements and velocities.
   bool inverse_dynamics = false;
   const VectorX* qdd_cmd = nullptr;
+  // An environment (several trees): the hold acts on these robots' dofs alone (hold_rate unused), and
+  // inverse dynamics drives none of these dofs (passive robots, PD robots); floating joints it never drives.
+  const std::vector<DofRange>* hold = nullptr;
+  const std::vector<DofRange>* uncommanded = nullptr;
+  JointPd pd;
 };
 
 // The user's force at one evaluated state, and its linearisation.
@@ -83,7 +106,10 @@ struct CoupledEvaluation {
 
 class CoupledDynamics {
  public:
-  CoupledDynamics(const Model& model, const Scene& scene);
+  // q_reference: where the joint limits take their gains (the scene's initial state). contacts: the
+  // environment's (null or empty: one robot in empty space, no contact step).
+  CoupledDynamics(const Model& model, const Scene& scene, const VectorX& q_reference,
+                  const ContactModel* contacts = nullptr);
 
   CoupledEvaluation makeEvaluation() const;
   // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau.
@@ -92,6 +118,18 @@ class CoupledDynamics {
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
   void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, MatrixX& A,
                     VectorX& rhs);
+  // The contact step (contact_solver.h) after the unconstrained update: v holds v_free and becomes v+;
+  // factored: the matrix the step solved with, factored (null: H's, from the start evaluation).
+  void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
+  bool hasContacts() const { return contacts_ != nullptr; }
+  // With contact, the linearly-implicit step needs H but not its factors: the acceleration a step
+  // reports is then the one it applied, (v+ - v) / h, contact included (what a standing robot does,
+  // not the free fall its start state alone would give), and evaluate() leaves qdd unset.
+  void reportAppliedAcceleration(bool on) { applied_acceleration_ = on; }
+  // The contacts of the last step's start (their impulses from its solve).
+  const ContactSet& contacts() const { return contact_set_; }
+  const ContactSolveStats& contactStats() const;
+  void resetContacts();
 
   // The evaluator the integrators take (integrators.h): these dynamics with
   // one step's inputs bound. Its first evaluation is the step's start state.
@@ -107,6 +145,10 @@ class CoupledDynamics {
     void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) {
       d_.linearSystem(in_, at, v, h, A, rhs);
     }
+    bool hasContacts() const { return d_.hasContacts(); }
+    void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position) {
+      d_.constrain(v0, h, factored, v, v_position);
+    }
 
    private:
     CoupledDynamics& d_;
@@ -121,6 +163,12 @@ class CoupledDynamics {
   const Model& model_;
   const Scene& scene_;
   JointLimits limits_;
+  std::vector<DofRange> floating_;  // floating joints: never driven
+  const ContactModel* contacts_ = nullptr;
+  bool applied_acceleration_ = false;
+  std::unique_ptr<ContactDetection> detection_;
+  std::unique_ptr<ContactSolver> solver_;
+  ContactSet contact_set_;
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;

@@ -9,7 +9,6 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
 #include "core/scene/trajectory_file.h"
-#include "core/trajectory/cartesian_line.h"
 
 namespace igms {
 
@@ -17,49 +16,58 @@ namespace {
 constexpr double kRecordPeriod = 0.01;          // s
 constexpr int kRecordCapacity = 60000;          // 10 minutes at 100 Hz
 constexpr double kDivergedSpeed = 1e4;          // rad/s or m/s: no robot moves like this
-constexpr double kResumeSpeed = 1.0;            // rad/s, mean speed of a resume trajectory
 constexpr int kResumeGapSteps = 20;             // steps without any input: a gap
 constexpr int64_t kResumeSeqJump = 100;         // a client's seq jumping this far: a gap (jitter stays below)
 constexpr double kResumeRamp = 0.1;             // s to bring the coupling back in after a gap
+}  // namespace
+
+namespace {
+
+// The environment's contact model: its geoms (the model's links and free bodies, the solid
+// obstacles, the ground), the scene's materials; null when nothing can touch.
+std::unique_ptr<ContactModel> contactModelOf(const ResolvedScene& r) {
+  const Scene& s = r.scene;
+  if (!s.hasContact()) return nullptr;
+  std::vector<Material> materials;
+  for (const std::string& name : r.material_names) materials.push_back(s.materials.at(name));
+  std::vector<FixedGeom> fixed;
+  for (const Obstacle& o : s.obstacles)
+    if (o.solid) fixed.push_back(FixedGeom{o.name, o.shape, r.materialIndex(o.material)});
+  if (s.ground.enabled) {
+    CollisionShape plane;
+    plane.kind = CollisionShape::Kind::Plane;
+    plane.placement = s.ground.pose;
+    fixed.push_back(FixedGeom{"ground", plane, r.materialIndex(s.ground.material)});
+  }
+  auto cm = std::make_unique<ContactModel>(*r.model, r.part_material, fixed, materials, s.contact);
+  if (cm->empty()) return nullptr;
+  return cm;
+}
+
 }  // namespace
 
 Simulation::Simulation(ResolvedScene resolved)
     : resolved_(std::move(resolved)), scene_(resolved_.scene), model_(resolved_.model) {
   const Model& m = *model_;
   data_ = std::make_unique<Data>(m);
-  dynamics_ = std::make_unique<CoupledDynamics>(m, scene_);
+  contact_model_ = contactModelOf(resolved_);
+  dynamics_ = std::make_unique<CoupledDynamics>(m, scene_, resolved_.q0, contact_model_.get());
+  applied_acceleration_ = dynamics_->hasContacts() && scene_.integrator == IntegratorKind::LinearlyImplicit;
+  dynamics_->reportAppliedAcceleration(applied_acceleration_);
+  v_start_ = VectorX::Zero(m.nv);
   scratch_ = std::make_unique<IntegratorScratch<CoupledEvaluation>>(m, *dynamics_);
-  const VectorX& q0 = resolved_.q0;
-  // Nominal trajectory.
-  switch (scene_.trajectory.kind) {
-    case TrajectorySpec::Kind::None: break;
-    case TrajectorySpec::Kind::JointWaypoints:
-      for (const auto& p : scene_.trajectory.waypoints)
-        if (p.size() != m.nq) throw SceneError(scene_.source + ": trajectory waypoint size differs from nq");
-      nominal_ = PiecewisePolynomial::clampedCubicSpline(scene_.trajectory.times, scene_.trajectory.waypoints);
-      break;
-    case TrajectorySpec::Kind::CartesianLine: {
-      CartesianLine line;
-      line.frame = m.frameIndex(scene_.trajectory.frame);
-      if (line.frame < 0)
-        throw SceneError(scene_.source + ": trajectory.frame: unknown link '" + scene_.trajectory.frame + "'");
-      line.target = scene_.trajectory.target;
-      line.duration = scene_.trajectory.duration;
-      try {
-        nominal_ = cartesianLineTrajectory(m, q0, line);
-      } catch (const std::runtime_error& e) {
-        throw SceneError(scene_.source + ": trajectory: " + e.what());
-      }
-      break;
-    }
+  for (size_t k = 0; k < resolved_.robots.size(); ++k) {
+    controllers_.push_back(std::make_unique<RobotController>(m, resolved_, static_cast<int>(k)));
+    any_pd_ = any_pd_ || controllers_.back()->kind() == ControllerKind::Pd;
   }
-  resume_ = PiecewisePolynomial(m.nq, 1);
-  resume_.setQuintic(0.0, 1.0, q0, resolved_.v0, resolved_.v0, q0, resolved_.v0, resolved_.v0);  // sizes the storage once
+  environment_ = m.parts.size() > 1;
+  hold_.reserve(controllers_.size());
+  uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
   edited_t_.assign(kRecordCapacity, 0.0);
   edited_q_ = MatrixX::Zero(kRecordCapacity, m.nq);
-  q_ref_ = qd_ref_ = qdd_ref_ = VectorX::Zero(m.nq);
-  qdd_cmd_ = zero_ = VectorX::Zero(m.nv);
+  qdd_cmd_ = VectorX::Zero(m.nv);
+  pd_kp_ = pd_kd_ = pd_q_ = pd_v_ = VectorX::Zero(m.nv);
   reset();
 }
 
@@ -78,12 +86,10 @@ void Simulation::reset() {
   diverged_ = false;
   divergence_.clear();
   forces_clamped_ = 0;
-  active_ = nominal_.empty() ? nullptr : &nominal_;
-  active_offset_ = 0.0;
-  goal_ = resolved_.q0;
-  if (!nominal_.empty()) nominal_.finalPoint(goal_);
   edited_count_ = 0;
   next_record_t_ = 0.0;
+  for (auto& c : controllers_) c->reset(resolved_.q0);
+  dynamics_->resetContacts();
   gains_ = Coupling{};
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
   setRotationalGains(scene_.pull.k_rot, scene_.pull.b_rot);
@@ -105,13 +111,23 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   diverged_ = false;
   hands_.fill(HandTrack{});  // a re-based copy does not know the server's gaps
   stall_noted_ = false;
+  dynamics_->resetContacts();
+}
+
+bool Simulation::hasTrajectory() const {
+  for (const auto& c : controllers_)
+    if (!c->nominal().empty()) return true;
+  return false;
+}
+
+const PiecewisePolynomial& Simulation::nominal() const {
+  static const PiecewisePolynomial kNone;
+  return controllers_.empty() ? kNone : controllers_.front()->nominal();
 }
 
 void Simulation::setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points) {
-  nominal_ = PiecewisePolynomial::clampedCubicSpline(times, points);
-  nominal_.finalPoint(goal_);
-  active_ = &nominal_;
-  active_offset_ = t_;
+  if (controllers_.empty()) throw std::runtime_error(scene_.source + ": no robot to give a trajectory");
+  controllers_.front()->setNominalTrajectory(t_, times, points);
 }
 
 void Simulation::setGains(double push_k_p, double pull_k, double pull_b) {
@@ -212,30 +228,33 @@ void Simulation::computeControl(const HandInputs& inputs) {
   }
   if (any_user && !interacting_) interacting_ = true;
   if (!any_user && interacting_) {
-    // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
+    // Generation resumes from the new state: for each robot, a quintic from (q, v, qdd) to its goal.
     interacting_ = false;
-    if (active_) {
-      const double remaining = active_ == &nominal_ ? nominal_.endTime() - (t_ - active_offset_) : 0.0;
-      const double distance = (goal_ - q_).cwiseAbs().maxCoeff();
-      const double T = std::max({remaining, 0.5, 1.875 * distance / kResumeSpeed});
-      resume_.setQuintic(t_, T, q_, v_, qdd_, goal_, zero_, zero_);
-      active_ = &resume_;
-      active_offset_ = 0.0;
-      outcome_.replanned = true;
-    }
+    for (auto& c : controllers_)
+      if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
   }
-  hold_rate_ = (interacting_ && active_) ? scene_.hold_damping : 0.0;
   // The torque is inverse dynamics at the start state, which the step's first evaluation computes
   // in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics, set in step): it adds
-  // the joint damping's D v and leaves a floating base unactuated. While a hand acts, it is the
+  // the joint damping's D v and leaves floating joints unactuated. While a hand acts, it is the
   // hold's gravity and Coriolis compensation (the dynamics add the hold damping: the users' forces
-  // move the robot); otherwise the computed torque of qdd_cmd_.
-  if (!active_) {
-    tau_.setZero();  // no trajectory: a passive robot
-  } else if (!interacting_) {
-    active_->evaluate(t_ - active_offset_, q_ref_, qd_ref_, qdd_ref_);
-    qdd_cmd_ = qdd_ref_ + resolved_.kp.cwiseProduct(q_ref_ - q_) + resolved_.kd.cwiseProduct(qd_ref_ - v_);
+  // move the robot); otherwise the computed torque of qdd_cmd_. A PD robot's torque is the dynamics'
+  // (CoupledInputs::pd), a passive robot's none.
+  bool inverse_dynamics = false;
+  hold_rate_ = 0.0;
+  hold_.clear();
+  uncommanded_.clear();
+  for (auto& c : controllers_) {
+    const ModelPart& part = c->part();
+    const bool holds = interacting_ && c->active();
+    if (holds && c->kind() == ControllerKind::ComputedTorque) {
+      hold_rate_ = c->holdDamping();
+      hold_.push_back(DofRange{part.dof_begin, part.dof_end, c->holdDamping()});
+    }
+    if (c->inverseDynamics()) inverse_dynamics = true;
+    else uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
+    c->command(t_, q_, v_, interacting_, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
   }
+  if (!inverse_dynamics) tau_.setZero();  // no trajectory: passive robots (and PD robots' torque is the dynamics')
 }
 
 bool Simulation::step(const InteractionInput* input) {
@@ -247,13 +266,22 @@ bool Simulation::step(const InteractionInput* input) {
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
   computeControl(hands);
-  const CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, active_ != nullptr,
-                             interacting_ ? nullptr : &qdd_cmd_};
+  bool inverse_dynamics = false;
+  for (const auto& c : controllers_) inverse_dynamics = inverse_dynamics || c->inverseDynamics();
+  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics,
+                       interacting_ ? nullptr : &qdd_cmd_};
+  if (environment_) {
+    inputs.hold = &hold_;
+    if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
+  }
+  if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
+  if (applied_acceleration_) v_start_ = v_;
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
   // What the step reports is the evaluation at its start state.
   const CoupledEvaluation& start = scratch_->start;
-  qdd_ = start.qdd;
+  if (applied_acceleration_) qdd_ = (v_ - v_start_) / scene_.dt;
+  else qdd_ = start.qdd;
   // The couplings are in the order of the interacting hands among outcome_.hands.
   int c = 0;
   for (int k = 0; k < outcome_.nhands; ++k) {
@@ -327,15 +355,31 @@ void Simulation::saveEditedTrajectory(const std::string& path) const {
   if (times.size() < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
-  out << trajectoryFileText(scene_.source, model_->joint_name, times, rows);
+  if (!controllers_.empty() && model_->parts.size() > 1) {  // the first robot's coordinates, its own names
+    const ModelPart& part = controllers_.front()->part();
+    const std::string prefix = resolved_.robots.front().name.empty() ? "" : resolved_.robots.front().name + "/";
+    std::vector<std::string> names;
+    for (int i = part.body_begin; i < part.body_end; ++i) names.push_back(model_->joint_name[i].substr(prefix.size()));
+    for (VectorX& r : rows) r = r.segment(part.q_begin, part.nq()).eval();
+    out << trajectoryFileText(scene_.source, names, times, rows);
+  } else {
+    out << trajectoryFileText(scene_.source, model_->joint_name, times, rows);
+  }
   if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
 }
 
 std::vector<std::string> Simulation::activeComponents() const {
   std::vector<std::string> c;
-  c.push_back(model_->floating_base ? "floating_base" : "fixed_base");
-  if (!nominal_.empty()) c.push_back("trajectory");
-  if (!nominal_.empty()) c.push_back("computed_torque");
+  if (!controllers_.empty()) c.push_back(model_->floating_base ? "floating_base" : "fixed_base");
+  if (hasTrajectory()) c.push_back("trajectory");
+  bool computed = false;
+  for (const auto& r : controllers_) computed |= !r->nominal().empty() && r->kind() == ControllerKind::ComputedTorque;
+  if (computed) c.push_back("computed_torque");
+  if (any_pd_) c.push_back("pd");
+  if (controllers_.size() > 1) c.push_back("robots:" + std::to_string(controllers_.size()));
+  if (!scene_.bodies.empty()) c.push_back("free_bodies:" + std::to_string(scene_.bodies.size()));
+  if (scene_.ground.enabled) c.push_back("ground");
+  if (dynamics_->hasContacts()) c.push_back("contact");
   if (scene_.push.enabled) c.push_back("push");
   if (scene_.pull.enabled) c.push_back("pull");
   if (scene_.needsCollision()) c.push_back("collision");

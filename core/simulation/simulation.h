@@ -11,7 +11,10 @@
 //     dynamics (PD on the error), accelerations by forward dynamics (eq. 2);
 //   update the state (the scene's integrator).
 // When an interaction ends, a new C2 (quintic) trajectory starts from the
-// current q, v, qdd toward the goal. When an interaction comes back after a
+// current q, v, qdd toward the goal (each robot's: robot_controller.h). In an
+// environment (several robots, free bodies, the ground, solid obstacles) the
+// step also finds the contacts at its start and solves them with the velocity
+// update (core/contact/contact_solver.h). When an interaction comes back after a
 // gap (the loop stopped for over 20 ms, 20 steps without an input from that
 // client, or its seq jumping by more than 100: a stalled server, a stalled
 // client, inputs lost), that hand's coupling is brought back in over 100 ms instead
@@ -28,9 +31,11 @@
 #include <string>
 #include <vector>
 
+#include "core/contact/contact_model.h"
 #include "core/integrate/integrators.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
+#include "core/simulation/robot_controller.h"
 #include "core/trajectory/piecewise_polynomial.h"
 
 namespace igms {
@@ -135,14 +140,23 @@ class Simulation {
   int pullFrame() const { return resolved_.pull_frame; }
   // World poses of every URDF link at the current state.
   const std::vector<SE3>& linkPoses();
-  // The goal configuration (end of the nominal trajectory; initial q without one).
-  const VectorX& goal() const { return goal_; }
-  bool hasTrajectory() const { return !nominal_.empty(); }
-  // The nominal trajectory (empty without one), from simulated time 0.
-  const PiecewisePolynomial& nominal() const { return nominal_; }
+  // The first robot's goal configuration (end of its nominal trajectory; its initial q without one),
+  // its coordinates; without robots, the whole initial q.
+  const VectorX& goal() const { return controllers_.empty() ? resolved_.q0 : controllers_.front()->goal(); }
+  // Some robot has a trajectory to follow.
+  bool hasTrajectory() const;
+  // The first robot's nominal trajectory (empty without one), from simulated time 0.
+  const PiecewisePolynomial& nominal() const;
+  const std::vector<std::unique_ptr<RobotController>>& controllers() const { return controllers_; }
 
-  // Replace the nominal trajectory (restarts it at the current time).
+  // Replace the first robot's nominal trajectory (restarts it at the current time).
   void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
+
+  // The contacts at the last step's start, with the impulses its solve gave them (empty without contact).
+  const ContactSet& contacts() const { return dynamics_->contacts(); }
+  const ContactSolveStats& contactStats() const { return dynamics_->contactStats(); }
+  bool hasContacts() const { return dynamics_->hasContacts(); }
+  const ContactModel* contactModel() const { return contact_model_.get(); }
   // Interaction gains (push k_p, pull k, pull b; the 6-D pull's k_rot, b_rot), e.g. from a SET_GAINS command.
   void setGains(double push_k_p, double pull_k, double pull_b);
   void setRotationalGains(double k_rot, double b_rot);
@@ -160,7 +174,7 @@ class Simulation {
   int editedCount() const { return edited_count_; }
   double editedTime(int k) const { return edited_t_[static_cast<size_t>(k)]; }
   auto editedPoint(int k) const { return edited_q_.row(k).transpose(); }
-  // Writes it as a scene-loadable waypoint file ({waypoints: [{t, q}]}).
+  // Writes the first robot's part of it as a scene-loadable waypoint file ({waypoints: [{t, q}]}).
   void saveEditedTrajectory(const std::string& path) const;
 
   // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
@@ -184,6 +198,7 @@ class Simulation {
   const Scene& scene_;                  // resolved_.scene
   std::shared_ptr<const Model> model_;  // resolved_.model
   std::unique_ptr<Data> data_;
+  std::unique_ptr<ContactModel> contact_model_;  // null without any pair that can touch
   std::unique_ptr<CoupledDynamics> dynamics_;
   std::unique_ptr<IntegratorScratch<CoupledEvaluation>> scratch_;
   // The step's inputs, set by computeControl and passed to the dynamics.
@@ -194,10 +209,15 @@ class Simulation {
   std::array<HandTrack, kMaxHands> hands_;
   HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;
-  PiecewisePolynomial nominal_, resume_;
-  const PiecewisePolynomial* active_ = nullptr;
-  VectorX q_, v_, qdd_, tau_, goal_, zero_;
-  VectorX q_ref_, qd_ref_, qdd_ref_, qdd_cmd_;
+  std::vector<std::unique_ptr<RobotController>> controllers_;  // one per robot, in scene order
+  bool environment_ = false;            // several parts: per-robot holds and commands (DofRange lists)
+  std::vector<DofRange> hold_, uncommanded_;
+  VectorX pd_kp_, pd_kd_, pd_q_, pd_v_;
+  bool any_pd_ = false;
+  bool applied_acceleration_ = false;   // qdd is (v+ - v) / h (contact with the linearly-implicit step)
+  VectorX v_start_;
+  VectorX q_, v_, qdd_, tau_;
+  VectorX qdd_cmd_;
   double t_ = 0.0;
   int64_t steps_ = 0;
   bool interacting_ = false;
@@ -212,7 +232,6 @@ class Simulation {
   MatrixX edited_q_;            // capacity x nq, preallocated
   int edited_count_ = 0;
   double next_record_t_ = 0.0;
-  double active_offset_ = 0.0;  // the active trajectory is evaluated at t - active_offset_
   VectorX q_good_, v_good_;     // last finite state
 };
 

@@ -108,4 +108,13 @@ void PiecewisePolynomial::finalPoint(VectorX& q) const {
   evaluate(endTime(), q, qd, qdd);
 }
 
+PiecewisePolynomial PiecewisePolynomial::slice(int first, int n) const {
+  PiecewisePolynomial out(n, segments_);
+  out.segments_ = segments_;
+  out.breaks_ = breaks_;
+  for (int s = 0; s < segments_; ++s)
+    for (int j = 0; j < n; ++j) out.coeffs_.row(s * n + j) = coeffs_.row(s * n_ + first + j);
+  return out;
+}
+
 }  // namespace igms

@@ -35,6 +35,8 @@ class PiecewisePolynomial {
   bool empty() const { return segments_ == 0; }
   // Final configuration.
   void finalPoint(VectorX& q) const;
+  // Coordinates first .. first + n - 1 alone (one robot's, of an environment's trajectory).
+  PiecewisePolynomial slice(int first, int n) const;
 
  private:
   int n_ = 0, segments_ = 0;

@@ -71,8 +71,12 @@ struct SceneParts {
 };
 
 void printStart(const Simulation& sim, const std::string& scene_path, const ServerOptions& o, int64_t token) {
+  std::string models;
+  for (const RobotSpec& r : sim.scene().robots) models += (models.empty() ? "" : ", ") + r.model_path;
+  if (!sim.scene().bodies.empty())
+    models += (models.empty() ? "" : ", ") + std::to_string(sim.scene().bodies.size()) + " free bodies";
   std::fprintf(stderr, "igms-server: scene %s, model %s (nq %d, nv %d), %s clock at %.0f Hz, session %lld\n",
-               scene_path.c_str(), sim.scene().model_path.c_str(), sim.model().nq, sim.model().nv,
+               scene_path.c_str(), models.c_str(), sim.model().nq, sim.model().nv,
                o.clock == ServerOptions::Clock::Realtime ? "realtime" : "lockstep", sim.scene().rate_hz,
                static_cast<long long>(token));
   std::string comps;

@@ -15,6 +15,8 @@ std::shared_ptr<fcl::CollisionGeometryd> geometry(const CollisionShape& s) {
     case CollisionShape::Kind::Box: return std::make_shared<fcl::Boxd>(s.size[0], s.size[1], s.size[2]);
     case CollisionShape::Kind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]);
     case CollisionShape::Kind::Sphere: return std::make_shared<fcl::Sphered>(s.size[0]);
+    case CollisionShape::Kind::Capsule: return std::make_shared<fcl::Capsuled>(s.size[0], s.size[1]);
+    case CollisionShape::Kind::Plane: return nullptr;  // the ground: the contact layer's, never a ghost
     case CollisionShape::Kind::Mesh: {
       if (!s.triangles) return nullptr;  // a description read as text: no triangles
       auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
@@ -44,6 +46,8 @@ double boundingRadius(const CollisionShape& s) {
     case CollisionShape::Kind::Box: return 0.5 * s.size.norm();
     case CollisionShape::Kind::Cylinder: return std::hypot(s.size[0], 0.5 * s.size[1]);
     case CollisionShape::Kind::Sphere: return s.size[0];
+    case CollisionShape::Kind::Capsule: return s.size[0] + 0.5 * s.size[1];
+    case CollisionShape::Kind::Plane: return 0.0;
     case CollisionShape::Kind::Mesh: {
       double r = 0.0;
       if (s.triangles)
@@ -90,6 +94,8 @@ CollisionWorld::CollisionWorld(const Model& model, const std::vector<Obstacle>& 
     : impl_(std::make_unique<Impl>(model)) {
   for (size_t f = 0; f < model.frames.size(); ++f) {
     if (model.frames[f].body < 0) continue;  // fixed to the world (the base): never collides with its surroundings
+    const int part = model.partOfFrame(static_cast<int>(f));
+    if (part >= 0 && model.parts[static_cast<size_t>(part)].free_body) continue;  // the robots' links are watched
     for (const auto& s : model.frames[f].collisions)
       if (auto g = geometry(s))
         impl_->links.push_back({static_cast<int>(f), s.placement, boundingRadius(s),
@@ -97,6 +103,7 @@ CollisionWorld::CollisionWorld(const Model& model, const std::vector<Obstacle>& 
                                 s.kind == CollisionShape::Kind::Mesh && s.field ? &s : nullptr});
   }
   for (const auto& o : obstacles) {
+    if (o.solid) continue;  // a solid obstacle is touched through contact, not watched
     auto g = geometry(o.shape);
     if (!g) continue;
     auto obj = std::make_unique<fcl::CollisionObjectd>(g, toFcl(o.shape.placement));

@@ -55,8 +55,8 @@ TEST(PaperExperiments, TheSavedEditReplaysWithoutCollisionOrInteraction) {
     const std::string edited = ::testing::TempDir() + "/edited_" + name;
     runScenario(obstacleScene(), script(name), 7.0, edited);
     Scene replay = obstacleScene();
-    replay.trajectory =
-        parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + edited + "}\n", "t.yaml", "").trajectory;
+    replay.robots[0].trajectory =
+        parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + edited + "}\n", "t.yaml", "").robots[0].trajectory;
     const ScenarioResult r = runScenario(replay, "", 7.5);
     EXPECT_EQ(r.collision_steps_all, 0) << name << ": " << r.first_collision_what << " at " << r.first_collision;
     EXPECT_LE((r.final_ee - Vector3(0.45, 0.47, 0.25)).norm(), 0.01) << name << ": the edit reaches the wall";

@@ -95,7 +95,7 @@ TEST(RecordedSession, AnAbsoluteScenePathResolvesWithoutTheBaseFolder) {
   ASSERT_TRUE(session.has_info);
   session.info.scene_path = sourceDir() + "/scenes/puma_wall.yaml";
   const Scene scene = recordedScene(session, "/nonexistent-base");
-  EXPECT_NE(scene.build.floating_base, true);
+  EXPECT_NE(scene.robots[0].floating_base, true);
   EXPECT_EQ(Simulation(scene).model().nv, 6) << "the PUMA loaded from ../models beside the scene";
 }
 

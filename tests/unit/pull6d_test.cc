@@ -135,7 +135,7 @@ TEST(Pull6D, TheTorqueEntersTheDynamicsThroughTheFrameJacobian) {
   Vector6 w;
   w << F, T;
   VectorX tau = sim.tau() + J.transpose() * w;
-  tau -= sim.scene().hold_damping * [&] { crba(m, d, q); return VectorX(d.H * v); }();
+  tau -= sim.scene().robots[0].hold_damping * [&] { crba(m, d, q); return VectorX(d.H * v); }();
   if (sim.scene().joint_damping) tau -= jointDamping(m).cwiseProduct(v);
   ASSERT_TRUE(forwardDynamics(m, d, q, v, tau));
   EXPECT_LE((d.qdd - sim.qdd()).norm(), 1e-9 * std::max(1.0, d.qdd.norm()));
@@ -179,8 +179,8 @@ TEST(Pull6D, TheImplicitStepStaysPassiveAtHighRotationalStiffness) {
   for (const double k_rot : {1.0, 10.0, 100.0, 1e3, 1e4, 1e5}) {
     for (const IntegratorKind kind : {IntegratorKind::LinearlyImplicit, IntegratorKind::SemiImplicitEuler}) {
       Scene s = pullScene(k_rot);
-      s.trajectory = TrajectorySpec{};
-      s.build.gravity = Vector3::Zero();
+      s.robots[0].trajectory = TrajectorySpec{};
+      s.gravity = Vector3::Zero();
       s.joint_damping = false;
       s.joint_limits = false;
       s.pull.b = 0.0;

@@ -17,7 +17,7 @@ namespace {
 TEST(SessionDescription, CarriesTheModelFileByteForByte) {
   Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
   const session_info_t info = describeSession(sim, "lockstep");
-  const std::string file = readModelFile(sim.scene().model_path);
+  const std::string file = readModelFile(sim.scene().robots[0].model_path);
   ASSERT_EQ(info.model_size, static_cast<int32_t>(file.size()));
   EXPECT_LT(info.model_zlib_size, info.model_size / 3) << "compressed";
   EXPECT_EQ(inflateText(info.model_zlib.data(), info.model_zlib.size(), static_cast<size_t>(info.model_size), "x"),
@@ -37,7 +37,7 @@ TEST(SessionDescription, CarriesTheModelFileByteForByte) {
   session.info = info;
   session.info.model_path = "/nowhere/puma560.urdf";
   const Scene back = recordedScene(session, sourceDir());
-  EXPECT_EQ(back.model_text, file);
+  EXPECT_EQ(back.robots[0].model_text, file);
 }
 
 TEST(SessionDescription, HashesTheMeshesAndAReplayNamesTheOnesThatDiffer) {

@@ -334,17 +334,18 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   sim.saveEditedTrajectory(path);
   EXPECT_GE(sim.editedCount(), 100);
   Scene replay = scene("puma_wall.yaml");
-  replay.trajectory = parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "")
-                          .trajectory;
+  replay.robots[0].trajectory =
+      parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").robots[0].trajectory;
   Simulation again(replay);
   run(again, 1.0);
   EXPECT_LE((again.q() - sim.q()).norm(), 5e-3);
   // The file names its columns: the model's joints, in order.
-  EXPECT_EQ(replay.trajectory.joint_names, sim.model().joint_name);
-  EXPECT_EQ(replay.trajectory.file, path);
-  EXPECT_NE(replay.trajectory.file_text.find("joints: [joint1"), std::string::npos) << replay.trajectory.file_text;
+  const TrajectorySpec& t = replay.robots[0].trajectory;
+  EXPECT_EQ(t.joint_names, sim.model().joint_name);
+  EXPECT_EQ(t.file, path);
+  EXPECT_NE(t.file_text.find("joints: [joint1"), std::string::npos) << t.file_text;
   // Doubles survive the emitter bit for bit.
-  EXPECT_EQ(replay.trajectory.waypoints.front(), VectorX(sim.editedPoint(0)));
+  EXPECT_EQ(t.waypoints.front(), VectorX(sim.editedPoint(0)));
   std::remove(path.c_str());
 }
 
@@ -353,7 +354,8 @@ TEST(Simulation, ATrajectoryFileForOtherJointsIsRefusedNamingBoth) {
   std::ofstream(path) << "joints: [a, b, c, d, e, f]\nwaypoints:\n  - {t: 0, q: [0, 0, 0, 0, 0, 0]}\n"
                          "  - {t: 1, q: [0, 0, 0, 0, 0, 0]}\n";
   Scene s = scene("puma_wall.yaml");
-  s.trajectory = parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").trajectory;
+  s.robots[0].trajectory =
+      parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").robots[0].trajectory;
   try {
     Simulation sim(s);
     FAIL() << "accepted a trajectory for other joints";
@@ -365,8 +367,8 @@ TEST(Simulation, ATrajectoryFileForOtherJointsIsRefusedNamingBoth) {
   const std::map<std::string, std::string> files = {{"/nowhere/t.yaml", "waypoints:\n  - {t: 0, q: [1]}\n  - {t: 1, q: [2]}\n"}};
   const Scene from_log =
       parseScene("robot: {model: x}\ntrajectory: {kind: file, file: /nowhere/t.yaml}\n", "t.yaml", "", &files);
-  ASSERT_EQ(from_log.trajectory.waypoints.size(), 2u);
-  EXPECT_EQ(from_log.trajectory.waypoints[1][0], 2.0);
+  ASSERT_EQ(from_log.robots[0].trajectory.waypoints.size(), 2u);
+  EXPECT_EQ(from_log.robots[0].trajectory.waypoints[1][0], 2.0);
   std::remove(path.c_str());
 }
 

@@ -97,7 +97,12 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
   settings.joint_damping = scene.joint_damping;
   const double h = scene.dt;
   out.dt = h;
-  const bool has_trajectory = scene.trajectory.kind != TrajectorySpec::Kind::None;
+  if (scene.robots.size() != 1 || m.parts.size() != 1 || scene.hasContact()) {
+    out.error = "the ODE replay takes one robot in empty space (no free bodies, ground or contact)";
+    return out;
+  }
+  const RobotSpec& robot = scene.robots.front();
+  const bool has_trajectory = robot.trajectory.kind != TrajectorySpec::Kind::None;
   const int pull_frame = resolved.pull_frame;
   const VectorX& kp = resolved.kp;
   const VectorX& kd = resolved.kd;
@@ -122,7 +127,7 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     tau_sq += tau.squaredNorm();
     const bool hold = st.mode != 0 && has_trajectory;
     if (hold || tracking) crba(m, d, q);  // H at ODE's state, once per step
-    if (hold) tau -= scene.hold_damping * (d.H * v);  // the hold: -c H v
+    if (hold) tau -= robot.hold_damping * (d.H * v);  // the hold: -c H v
     if (tracking) {
       const auto& rec_q = states[k - 1].q;  // the recorded state this step starts from
       const auto& rec_v = states[k - 1].v;

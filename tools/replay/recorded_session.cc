@@ -44,8 +44,8 @@ Scene recordedScene(const RecordedSession& session, const std::string& base_dir)
   std::map<std::string, std::string> files;
   if (!info.trajectory_path.empty()) files[info.trajectory_path] = info.trajectory_text;
   Scene scene = parseScene(info.scene_text, info.scene_path, dir.empty() ? "." : dir.string(), &files);
-  if (info.model_size > 0)
-    scene.model_text = inflateText(info.model_zlib.data(), info.model_zlib.size(), static_cast<size_t>(info.model_size),
+  if (info.model_size > 0 && !scene.robots.empty())  // the log carries the first robot's model file
+    scene.robots.front().model_text = inflateText(info.model_zlib.data(), info.model_zlib.size(), static_cast<size_t>(info.model_size),
                                    "the log's copy of " + info.model_path);
   return scene;
 }

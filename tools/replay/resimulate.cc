@@ -43,9 +43,10 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
   std::unique_ptr<Simulation> sim;
   try {
     sim = std::make_unique<Simulation>(recordedScene(session, base_dir));
-    out.model_from_log = !sim->scene().model_text.empty();
+    const RobotSpec* robot = sim->scene().robot();
+    out.model_from_log = robot && !robot->model_text.empty();
     try {
-      out.model_hash_now = textHash(readModelFile(sim->scene().model_path));
+      out.model_hash_now = robot ? textHash(readModelFile(robot->model_path)) : "none";
     } catch (const std::exception&) {
       if (!out.model_from_log) throw;
       out.model_hash_now = "absent";  // the log's copy stands in

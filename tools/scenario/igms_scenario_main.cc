@@ -22,7 +22,17 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                       {"max_user_force", r.max_user_force},
                       {"max_robot_force", r.max_robot_force},
                       {"diverged", r.diverged},
+                      {"max_contacts", r.max_contacts},
+                      {"max_penetration", r.max_penetration},
+                      {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};
+  // Each free body's final pose: [x, y, z, qw, qx, qy, qz].
+  for (const std::string& name : r.bodies) {
+    nlohmann::json pose = nlohmann::json::array();
+    for (size_t c = 0; c < r.q_columns.size() && !r.samples.empty(); ++c)
+      if (r.q_columns[c].rfind(name + ".", 0) == 0) pose.push_back(r.samples.back().q[c]);
+    j["bodies"][name] = pose;
+  }
   for (size_t i = 0; i < r.interactions.size(); ++i)
     j["interactions"].push_back({{"mode", r.interaction_modes[i] == 1 ? "push" : "pull"},
                                  {"start", r.interactions[i].first},
@@ -34,14 +44,14 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "t,mode,ee_x,ee_y,ee_z,fx,fy,fz,min_distance,in_collision";
-  for (size_t j = 0; j < (r.samples.empty() ? 0 : r.samples.front().q.size()); ++j) f << ",q" << j;
-  f << "\n";
+  for (const std::string& c : r.q_columns) f << "," << c;
+  f << ",contacts,max_penetration\n";
   for (const auto& s : r.samples) {
     f << s.t << "," << s.mode << "," << s.ee.x() << "," << s.ee.y() << "," << s.ee.z() << "," << s.force_on_robot.x()
       << "," << s.force_on_robot.y() << "," << s.force_on_robot.z() << "," << s.min_obstacle_distance << ","
       << s.in_collision;
     for (double q : s.q) f << "," << q;
-    f << "\n";
+    f << "," << s.contacts << "," << s.max_penetration << "\n";
   }
 }
 

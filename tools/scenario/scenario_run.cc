@@ -10,6 +10,21 @@
 
 namespace igms {
 
+std::vector<std::string> coordinateColumns(const Model& model) {
+  std::vector<std::string> out;
+  int robots = 0;
+  for (const ModelPart& part : model.parts) robots += !part.free_body;
+  for (const ModelPart& part : model.parts) {
+    if (part.free_body) {
+      for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz"}) out.push_back(part.name + "." + c);
+      continue;
+    }
+    const std::string prefix = robots > 1 || !part.name.empty() ? part.name + "." : "";
+    for (int k = 0; k < part.nq(); ++k) out.push_back(prefix + "q" + std::to_string(k));
+  }
+  return out;
+}
+
 ScenarioResult runScenario(const Scene& scene, const std::string& script, double seconds,
                            const std::string& save_edited, double reach_tolerance) {
   ScenarioResult out;
@@ -30,7 +45,14 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
                                                 *X = links[static_cast<size_t>(f)];
                                                 return true;
                                               });
-  const int ee = model.frameIndex(scene.trajectory.frame.empty() ? model.frames.back().name : scene.trajectory.frame);
+  // The end-effector: the first robot's line's frame, or its last link.
+  const RobotSpec* robot = scene.robot();
+  const std::string prefix = robot && !robot->name.empty() ? robot->name + "/" : "";
+  const int last = model.parts.empty() ? -1 : model.parts.front().frame_end - 1;
+  const int ee = robot && !robot->trajectory.frame.empty() ? model.frameIndex(prefix + robot->trajectory.frame) : last;
+  out.q_columns = coordinateColumns(model);
+  for (const ModelPart& part : model.parts)
+    if (part.free_body) out.bodies.push_back(part.name);
   const double period = scene.dt;
   haptic_input_t msg{};
   InteractionInput input;
@@ -73,8 +95,12 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
         out.first_collision_what = cn.closest_link + " hits " + cn.closest_obstacle;
       }
     }
-    if (out.reached_wall_time < 0 && scene.trajectory.kind == TrajectorySpec::Kind::CartesianLine &&
-        (s.ee - scene.trajectory.target).norm() <= reach_tolerance)
+    s.contacts = sim.contacts().n;
+    s.max_penetration = sim.contacts().maxPenetration();
+    out.max_contacts = std::max(out.max_contacts, s.contacts);
+    out.max_penetration = std::max(out.max_penetration, s.max_penetration);
+    if (out.reached_wall_time < 0 && robot && robot->trajectory.kind == TrajectorySpec::Kind::CartesianLine &&
+        (s.ee - robot->trajectory.target).norm() <= reach_tolerance)
       out.reached_wall_time = s.t;
     out.max_user_force = std::max(out.max_user_force, rendered.norm());
     out.max_robot_force = std::max(out.max_robot_force, s.force_on_robot.norm());

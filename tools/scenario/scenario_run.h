@@ -7,21 +7,30 @@
 #include <string>
 #include <vector>
 
+#include "core/model/model.h"
 #include "core/scene/scene.h"
 
 namespace igms {
 
 struct ScenarioSample {
   double t;
-  std::vector<double> q;
+  std::vector<double> q;   // the environment's coordinates (ScenarioResult::q_columns names them)
   int mode;
   Vector3 force_on_robot, ee;
   double min_obstacle_distance;
   bool in_collision;
+  int contacts;            // contact points at the step's start
+  double max_penetration;  // m, their deepest overlap (0: none)
 };
 
 struct ScenarioResult {
   std::vector<ScenarioSample> samples;   // every step
+  // A name per coordinate of q: q0... for a one-robot scene's robot, ROBOT.q0... with several
+  // robots, NAME.x NAME.y NAME.z NAME.qw NAME.qx NAME.qy NAME.qz for a free body's pose.
+  std::vector<std::string> q_columns;
+  std::vector<std::string> bodies;       // the free bodies' names, in q order
+  int max_contacts = 0;                  // contact points in a step, at most
+  double max_penetration = 0.0;          // m, the deepest overlap of any step
   int64_t collision_steps = 0;           // with obstacles other than the wall
   int64_t collision_steps_all = 0;       // with anything, the wall included
   double first_collision = -1.0;         // s
@@ -36,6 +45,9 @@ struct ScenarioResult {
   std::vector<int> interaction_modes;
   bool diverged = false;
 };
+
+// The names of a model's coordinates as ScenarioResult::q_columns gives them.
+std::vector<std::string> coordinateColumns(const Model& model);
 
 // Runs `seconds` of the scene with the device script (scripted:FILE) at the
 // scene's rate. save_edited: write the executed trajectory there (optional).

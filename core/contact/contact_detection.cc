@@ -1,0 +1,114 @@
+#include "core/contact/contact_detection.h"
+
+#include <algorithm>
+
+#include "core/geometry/shape_contact.h"
+
+namespace igms {
+
+ContactDetection::ContactDetection(const ContactModel& model) : cm_(model) {
+  const auto& g = cm_.geoms();
+  pose_.resize(g.size());
+  box_.resize(g.size());
+  for (size_t k = 0; k < g.size(); ++k) {
+    if (g[k].plane) planes_.push_back(static_cast<int>(k));
+    else order_.push_back(static_cast<int>(k));
+    if (g[k].body >= 0 && !g[k].plane) moving_.push_back(static_cast<int>(k));
+  }
+  // Candidates: a few per geom, as many as contact points can be held.
+  pairs_.resize(static_cast<size_t>(std::max(cm_.capacity(), 16 * static_cast<int>(g.size()) + 64)));
+}
+
+void ContactDetection::detect(const Data& data, ContactSet& out) {
+  const auto& geoms = cm_.geoms();
+  const double margin = cm_.settings().margin;
+  // World poses and boxes.
+  for (size_t k = 0; k < geoms.size(); ++k) {
+    const Geom& g = geoms[k];
+    pose_[k] = g.body < 0 ? g.placement : data.oMi[static_cast<size_t>(g.body)] * g.placement;
+    if (g.plane) continue;
+    const Matrix3& R = pose_[k].R;
+    const Vector3 centre = pose_[k].act(g.box_centre);
+    const Vector3 half = R.cwiseAbs() * g.box_half + Vector3::Constant(0.5 * margin);
+    box_[k] = Box{centre - half, centre + half};
+  }
+  npairs_ = 0;
+  auto candidate = [&](int i, int j) {
+    if (i > j) std::swap(i, j);
+    if (!cm_.canTouch(i, j)) return;
+    if (npairs_ >= static_cast<int>(pairs_.size())) {
+      ++pairs_dropped_;
+      return;
+    }
+    pairs_[static_cast<size_t>(npairs_++)] = {i, j};
+  };
+  // Sweep along the axis where the boxes spread most; insertion sort keeps last step's order cheap.
+  int axis = 0;
+  {
+    Vector3 lo = Vector3::Constant(1e300), hi = -lo;
+    for (int k : order_) {
+      lo = lo.cwiseMin(box_[static_cast<size_t>(k)].lo);
+      hi = hi.cwiseMax(box_[static_cast<size_t>(k)].hi);
+    }
+    (hi - lo).maxCoeff(&axis);
+  }
+  for (size_t i = 1; i < order_.size(); ++i) {
+    const int key = order_[i];
+    const double at = box_[static_cast<size_t>(key)].lo[axis];
+    size_t j = i;
+    while (j > 0 && box_[static_cast<size_t>(order_[j - 1])].lo[axis] > at) {
+      order_[j] = order_[j - 1];
+      --j;
+    }
+    order_[j] = key;
+  }
+  for (size_t i = 0; i < order_.size(); ++i) {
+    const Box& a = box_[static_cast<size_t>(order_[i])];
+    for (size_t j = i + 1; j < order_.size(); ++j) {
+      const Box& b = box_[static_cast<size_t>(order_[j])];
+      if (b.lo[axis] > a.hi[axis]) break;
+      if ((b.lo.array() <= a.hi.array()).all() && (a.lo.array() <= b.hi.array()).all()) candidate(order_[i], order_[j]);
+    }
+  }
+  // Planes against every moving geom whose box reaches below them.
+  for (int p : planes_) {
+    const Vector3 n = pose_[static_cast<size_t>(p)].R.col(2);
+    const double offset = n.dot(pose_[static_cast<size_t>(p)].p);
+    for (int k : moving_) {
+      const Box& b = box_[static_cast<size_t>(k)];
+      const Vector3 centre = 0.5 * (b.lo + b.hi), half = 0.5 * (b.hi - b.lo);
+      if (n.dot(centre) - n.cwiseAbs().dot(half) - offset < 0.5 * margin) candidate(p, k);
+    }
+  }
+  // A fixed order: by pair.
+  std::sort(pairs_.begin(), pairs_.begin() + npairs_);
+  out.n = 0;
+  ContactPoint pts[kMaxPairPoints];
+  for (int k = 0; k < npairs_; ++k) {
+    const auto [i, j] = pairs_[static_cast<size_t>(k)];
+    const Geom &a = geoms[static_cast<size_t>(i)], &b = geoms[static_cast<size_t>(j)];
+    const int n = shapeContacts(*a.shape, pose_[static_cast<size_t>(i)], *b.shape, pose_[static_cast<size_t>(j)], margin, pts);
+    if (n == 0) continue;
+    const Material m = combine(cm_.material(a.material), cm_.material(b.material));
+    for (int s = 0; s < n; ++s) {
+      if (out.n >= out.capacity()) {
+        ++out.dropped;
+        continue;
+      }
+      Contact& c = out[out.n++];
+      c.geom_a = i;
+      c.geom_b = j;
+      c.body_a = a.body;
+      c.body_b = b.body;
+      c.slot = s;
+      c.point = pts[s].point;
+      c.normal = pts[s].normal;
+      c.distance = pts[s].distance;
+      c.friction = m.friction;
+      c.restitution = m.restitution;
+      c.impulse.setZero();
+    }
+  }
+}
+
+}  // namespace igms

@@ -1,0 +1,288 @@
+#include "core/geometry/shape_contact.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/convex_distance.h"
+#include "core/geometry/point_query.h"
+
+namespace igms {
+namespace {
+
+constexpr int kRimPoints = 8;              // per cylinder cap
+constexpr int kMaxCandidates = 512 + 64;   // a mesh's samples (mesh_samples.h caps them at 512) and a few more
+constexpr double kSamePoint = 1e-6;        // m: two candidates closer than this are one
+
+using Kind = CollisionShape::Kind;
+
+// Raw storage (Eigen's vectors are left uninitialised): a pair's call must not clear 30 kB first.
+struct Candidate {
+  Vector3 point, normal;
+  double distance;
+};
+
+struct Candidates {
+  Candidate p[kMaxCandidates];
+  int n = 0;
+  void add(const Vector3& on_a, const Vector3& on_b, const Vector3& normal, double distance) {
+    if (n < kMaxCandidates) p[n++] = Candidate{0.5 * (on_a + on_b), normal, distance};
+  }
+};
+
+// A shape's points that may touch: (point, radius) in world, a radius rounding it (capsule ends).
+// \return how many were written (at most 2 * kRimPoints + 2).
+int featurePoints(const CollisionShape& s, const SE3& pose, Vector3* pts, double* radius) {
+  int n = 0;
+  switch (s.kind) {
+    case Kind::Box: {
+      const Vector3 h = 0.5 * s.size;
+      for (int c = 0; c < 8; ++c) {
+        pts[n] = pose.act(Vector3((c & 1) ? h.x() : -h.x(), (c & 2) ? h.y() : -h.y(), (c & 4) ? h.z() : -h.z()));
+        radius[n++] = 0.0;
+      }
+      break;
+    }
+    case Kind::Cylinder: {
+      const double r = s.size[0], hl = 0.5 * s.size[1];
+      for (int cap = 0; cap < 2; ++cap)
+        for (int k = 0; k < kRimPoints; ++k) {
+          const double angle = 2.0 * M_PI * k / kRimPoints;
+          pts[n] = pose.act(Vector3(r * std::cos(angle), r * std::sin(angle), cap ? hl : -hl));
+          radius[n++] = 0.0;
+        }
+      break;
+    }
+    case Kind::Capsule:
+      for (int cap = 0; cap < 2; ++cap) {
+        pts[n] = pose.act(Vector3(0.0, 0.0, (cap ? 0.5 : -0.5) * s.size[1]));
+        radius[n++] = s.size[0];
+      }
+      break;
+    case Kind::Sphere:
+      pts[n] = pose.p;
+      radius[n++] = s.size[0];
+      break;
+    case Kind::Mesh:
+    case Kind::Plane: break;
+  }
+  return n;
+}
+
+// Point x of a (rounded by r) against shape b: a candidate when within reach.
+void pointAgainst(const Vector3& x, double r, const CollisionShape& b, const SE3& pb, double margin, Candidates& c,
+                  bool x_on_a) {
+  const PointQuery q = pointQuery(b, pb, x, margin + r);
+  if (!q.valid || q.distance - r >= margin) return;
+  // q.normal is b's outward normal, toward x; seen from x's shape it points into it.
+  const Vector3 on_x = x - r * q.normal;
+  if (x_on_a) c.add(on_x, q.surface, -q.normal, q.distance - r);
+  else c.add(q.surface, on_x, q.normal, q.distance - r);
+}
+
+// Every sample point of shape s (a mesh's samples, or its feature points) against the other shape.
+void samplesAgainst(const CollisionShape& s, const SE3& ps, const CollisionShape& other, const SE3& po, double margin,
+                    Candidates& c, bool s_is_a) {
+  if (s.kind == Kind::Mesh) {
+    if (!s.samples) return;
+    for (const Vector3& local : *s.samples) pointAgainst(ps.act(local), 0.0, other, po, margin, c, s_is_a);
+    return;
+  }
+  Vector3 pts[2 * kRimPoints + 2];
+  double radius[2 * kRimPoints + 2];
+  const int n = featurePoints(s, ps, pts, radius);
+  for (int k = 0; k < n; ++k) pointAgainst(pts[k], radius[k], other, po, margin, c, s_is_a);
+}
+
+// A cylinder's rim point farthest along `toward` on each cap (exact: where a cylinder lying on its
+// side touches along a line, both ends of the line), against the other shape.
+void extremeRimPoints(const CollisionShape& s, const SE3& ps, const Vector3& toward, const CollisionShape& other,
+                      const SE3& po, double margin, Candidates& c, bool s_is_a) {
+  if (s.kind != Kind::Cylinder) return;
+  const Vector3 axis = ps.R.col(2);
+  const Vector3 across = toward - toward.dot(axis) * axis;
+  const double len = across.norm();
+  if (!(len > 1e-9)) return;  // a cap faces it: its rim points are all equally far
+  for (int cap = 0; cap < 2; ++cap)
+    pointAgainst(ps.p + (cap ? 0.5 : -0.5) * s.size[1] * axis + (s.size[0] / len) * across, 0.0, other, po, margin, c,
+                 s_is_a);
+}
+
+// Shape b against the plane a (its frame's z = 0, solid below).
+void againstPlane(const SE3& pa, const CollisionShape& b, const SE3& pb, double margin, Candidates& c) {
+  const Vector3 n = pa.R.col(2);
+  auto add = [&](const Vector3& x, double r) {
+    const double d = n.dot(x - pa.p) - r;
+    if (d >= margin) return;
+    const Vector3 on_b = x - r * n;
+    c.add(on_b - d * n, on_b, n, d);
+  };
+  if (b.kind == Kind::Mesh) {
+    if (!b.samples) return;
+    for (const Vector3& local : *b.samples) add(pb.act(local), 0.0);
+    return;
+  }
+  if (b.kind == Kind::Cylinder) {
+    // Each cap's lowest rim point, exactly, before the rim's fixed points (a flat cap keeps those).
+    const Vector3 axis = pb.R.col(2);
+    const Vector3 down = -n + n.dot(axis) * axis;  // toward the plane, across the axis
+    const double len = down.norm();
+    if (len > 1e-9)  // else the cap lies flat: its rim points below are all equally low
+      for (int cap = 0; cap < 2; ++cap)
+        add(pb.p + (cap ? 0.5 : -0.5) * b.size[1] * axis + (b.size[0] / len) * down, 0.0);
+  }
+  Vector3 pts[2 * kRimPoints + 2];
+  double radius[2 * kRimPoints + 2];
+  const int k = featurePoints(b, pb, pts, radius);
+  for (int i = 0; i < k; ++i) add(pts[i], radius[i]);
+}
+
+// The nearest points of segments p1-q1 and p2-q2 (Ericson, Real-Time Collision Detection, 5.1.9).
+void nearestOnSegments(const Vector3& p1, const Vector3& q1, const Vector3& p2, const Vector3& q2, Vector3& c1,
+                       Vector3& c2) {
+  const Vector3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-300 && e <= 1e-300) {
+  } else if (a <= 1e-300) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double cc = d1.dot(r);
+    if (e <= 1e-300) {
+      s = std::clamp(-cc / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 1e-300 ? std::clamp((b * f - cc * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-cc / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - cc) / a, 0.0, 1.0);
+      }
+    }
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+}
+
+void capsules(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb, double margin,
+              Candidates& c) {
+  const Vector3 ha = 0.5 * a.size[1] * pa.R.col(2), hb = 0.5 * b.size[1] * pb.R.col(2);
+  Vector3 ca, cb;
+  nearestOnSegments(pa.p - ha, pa.p + ha, pb.p - hb, pb.p + hb, ca, cb);
+  const Vector3 gap = cb - ca;
+  const double len = gap.norm();
+  const Vector3 n = len > 1e-12 ? Vector3(gap / len) : Vector3(pa.R.col(0));
+  const double d = len - a.size[0] - b.size[0];
+  if (d < margin) c.add(ca + a.size[0] * n, cb - b.size[0] * n, n, d);
+  samplesAgainst(a, pa, b, pb, margin, c, true);
+  samplesAgainst(b, pb, a, pa, margin, c, false);
+}
+
+// Keeps at most kMaxPairPoints, spread as widely as they can be. The points within kHardlyShallower
+// of the deepest come first (a face on a face: all its corners are that deep, and whichever round-off
+// makes deepest must not decide which corners stay): the one farthest from their centre, the one
+// farthest from it, then those that span the largest area with those; then, if room is left, the
+// others by the same rule.
+int reduce(const Candidates& c, ContactPoint* out) {
+  constexpr double kHardlyShallower = 1e-6;  // m
+  int idx[kMaxCandidates];
+  int n = 0;
+  for (int i = 0; i < c.n; ++i) {
+    bool duplicate = false;
+    for (int k = 0; k < n && !duplicate; ++k)
+      duplicate = (c.p[idx[k]].point - c.p[i].point).squaredNorm() < kSamePoint * kSamePoint;
+    if (!duplicate) idx[n++] = i;
+  }
+  if (n == 0) return 0;
+  double deepest = c.p[idx[0]].distance;
+  for (int k = 1; k < n; ++k) deepest = std::min(deepest, c.p[idx[k]].distance);
+  // The deep ones to the front, in their order.
+  int deep = 0;
+  for (int k = 0; k < n; ++k)
+    if (c.p[idx[k]].distance <= deepest + kHardlyShallower) std::swap(idx[deep++], idx[k]);
+  for (int k = deep + 1; k < n; ++k)  // the rest by depth, stably (insertion: std::stable_sort allocates)
+    for (int j = k; j > deep && c.p[idx[j]].distance < c.p[idx[j - 1]].distance; --j) std::swap(idx[j], idx[j - 1]);
+  auto P = [&](int k) -> const Vector3& { return c.p[idx[k]].point; };
+  const int keep = std::min(n, kMaxPairPoints);
+  int chosen = 0;
+  // Picks the best of [chosen, end) by score into place `chosen`.
+  auto pick = [&](int end, auto score) {
+    int best = chosen;
+    double best_score = -1.0;
+    for (int k = chosen; k < end; ++k) {
+      const double s = score(P(k));
+      if (s > best_score) {
+        best_score = s;
+        best = k;
+      }
+    }
+    std::swap(idx[chosen], idx[best]);
+    ++chosen;
+  };
+  Vector3 centre = Vector3::Zero();
+  for (int k = 0; k < deep; ++k) centre += P(k) / deep;
+  auto score = [&](const Vector3& x) {
+    switch (chosen) {
+      case 0: return (x - centre).squaredNorm();
+      case 1: return (x - P(0)).squaredNorm();
+      case 2: return (P(1) - P(0)).cross(x - P(0)).squaredNorm();
+      default:
+        return (P(1) - P(0)).cross(x - P(0)).norm() + (P(2) - P(1)).cross(x - P(1)).norm() +
+               (P(0) - P(2)).cross(x - P(2)).norm();
+    }
+  };
+  while (chosen < keep) pick(chosen < deep ? deep : n, score);
+  for (int k = 0; k < keep; ++k) out[k] = ContactPoint{c.p[idx[k]].point, c.p[idx[k]].normal, c.p[idx[k]].distance};
+  // Deepest first, as the header says.
+  int first = 0;
+  for (int k = 1; k < keep; ++k)
+    if (out[k].distance < out[first].distance) first = k;
+  std::swap(out[0], out[first]);
+  return keep;
+}
+
+}  // namespace
+
+int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb, double margin,
+                  ContactPoint* out) {
+  if (b.kind == Kind::Plane && a.kind != Kind::Plane) {
+    const int n = shapeContacts(b, pb, a, pa, margin, out);
+    for (int k = 0; k < n; ++k) out[k].normal = -out[k].normal;
+    return n;
+  }
+  Candidates c;
+  if (a.kind == Kind::Plane) {
+    if (b.kind == Kind::Plane) return 0;
+    againstPlane(pa, b, pb, margin, c);
+  } else if (a.kind == Kind::Sphere) {
+    pointAgainst(pa.p, a.size[0], b, pb, margin, c, true);
+  } else if (b.kind == Kind::Sphere) {
+    pointAgainst(pb.p, b.size[0], a, pa, margin, c, false);
+  } else if (a.kind == Kind::Mesh || b.kind == Kind::Mesh) {
+    samplesAgainst(a, pa, b, pb, margin, c, true);
+    samplesAgainst(b, pb, a, pa, margin, c, false);
+  } else if (a.kind == Kind::Capsule && b.kind == Kind::Capsule) {
+    capsules(a, pa, b, pb, margin, c);
+  } else {
+    ConvexShape ca, cb;
+    convexOf(a, pa, &ca);
+    convexOf(b, pb, &cb);
+    const ConvexDistance d = convexDistance(ca, cb);
+    if (!d.ok || d.distance >= margin) return 0;
+    c.add(d.on_a, d.on_b, d.normal, d.distance);
+    // Corners, rims and ends against the other shape (their exact gaps) share the pair's normal: a
+    // corner on another's edge has no normal of its own (a stacked box's corners sit on the edges of
+    // the box below), and one contact has one normal.
+    const int first = c.n;
+    samplesAgainst(a, pa, b, pb, margin, c, true);
+    samplesAgainst(b, pb, a, pa, margin, c, false);
+    extremeRimPoints(a, pa, -d.normal, b, pb, margin, c, true);
+    extremeRimPoints(b, pb, d.normal, a, pa, margin, c, false);
+    for (int k = first; k < c.n; ++k) c.p[k].normal = d.normal;
+  }
+  return reduce(c, out);
+}
+
+}  // namespace igms
