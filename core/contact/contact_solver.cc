@@ -12,6 +12,7 @@ namespace {
 constexpr int kCouplingsPerGroup = 12;    // pool: W blocks per pair on average
 constexpr double kWarmStartReach = 0.02;  // m: a last step's point this near, of the same pair, starts it
 constexpr double kSlop = 1e-6;            // m: overlap the positions leave alone
+constexpr double kPatchDepth = 1e-4;      // m: a patch's points this near the deepest carry its friction
 
 // Two unit tangents completing n, a function of n alone.
 void tangents(const Vector3& n, Vector3& t1, Vector3& t2) {
@@ -86,18 +87,27 @@ void ContactSolver::build(const Data& data, const MatrixX& LD, const ContactSet&
     g.patch = g.points > 1;
     g.rows = g.points + (g.patch ? 3 : 2);
     g.mu = c0.friction;
+    // The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
+    // within kPatchDepth of the deepest (a lying cylinder's two rim ends, not a rim point above them
+    // that the margin let in: friction there would roll it about the wrong line).
+    double deepest = contacts[i].distance;
+    for (int k = i + 1; k < end; ++k) deepest = std::min(deepest, contacts[k].distance);
     g.centroid.setZero();
     Vector3 normal = Vector3::Zero();
-    for (int k = i; k < end; ++k) {
-      g.centroid += contacts[k].point;
-      normal += contacts[k].normal;
-    }
-    g.centroid /= g.points;
+    int touching = 0;
+    for (int k = i; k < end; ++k)
+      if (contacts[k].distance <= deepest + kPatchDepth) {
+        g.centroid += contacts[k].point;
+        normal += contacts[k].normal;
+        ++touching;
+      }
+    g.centroid /= touching;
     g.n = normal.normalized();
     tangents(g.n, g.t1, g.t2);
     g.radius = 0.0;
-    for (int k = i; k < end; ++k) g.radius += (contacts[k].point - g.centroid).norm();
-    g.radius /= g.points;
+    for (int k = i; k < end; ++k)
+      if (contacts[k].distance <= deepest + kPatchDepth) g.radius += (contacts[k].point - g.centroid).norm();
+    g.radius /= touching;
     // The dofs: the union of both bodies' chains, ascending; each with its side's sign.
     static const std::vector<int> kNone;
     const std::vector<int>& ca = c0.body_a >= 0 ? body_chain_[static_cast<size_t>(c0.body_a)] : kNone;

@@ -12,6 +12,7 @@ namespace {
 constexpr int kRimPoints = 8;              // per cylinder cap
 constexpr int kMaxCandidates = 512 + 64;   // a mesh's samples (mesh_samples.h caps them at 512) and a few more
 constexpr double kSamePoint = 1e-6;        // m: two candidates closer than this are one
+constexpr double kFacing = 0.99619469809;  // cos 5 deg: a cylinder's cap this near facing a contact lies on it
 
 using Kind = CollisionShape::Kind;
 
@@ -30,8 +31,12 @@ struct Candidates {
 };
 
 // A shape's points that may touch: (point, radius) in world, a radius rounding it (capsule ends).
-// \return how many were written (at most 2 * kRimPoints + 2).
-int featurePoints(const CollisionShape& s, const SE3& pose, Vector3* pts, double* radius) {
+// A cylinder's rim points only where a cap faces `toward` (within kFacing; zero: always): a cap lying
+// flat touches by its rim, but a cylinder rolling on its side would meet its rim points as they come
+// round, and check each one (a ghost contact, braking the roll) before the exact lowest rim point,
+// which extremeRimPoints gives, reached it. \return how many were written (at most 2 kRimPoints + 2).
+int featurePoints(const CollisionShape& s, const SE3& pose, Vector3* pts, double* radius,
+                  const Vector3& toward = Vector3::Zero()) {
   int n = 0;
   switch (s.kind) {
     case Kind::Box: {
@@ -44,6 +49,7 @@ int featurePoints(const CollisionShape& s, const SE3& pose, Vector3* pts, double
     }
     case Kind::Cylinder: {
       const double r = s.size[0], hl = 0.5 * s.size[1];
+      if (!toward.isZero(0.0) && std::abs(toward.dot(pose.R.col(2))) < kFacing * toward.norm()) break;
       for (int cap = 0; cap < 2; ++cap)
         for (int k = 0; k < kRimPoints; ++k) {
           const double angle = 2.0 * M_PI * k / kRimPoints;
@@ -81,7 +87,7 @@ void pointAgainst(const Vector3& x, double r, const CollisionShape& b, const SE3
 
 // Every sample point of shape s (a mesh's samples, or its feature points) against the other shape.
 void samplesAgainst(const CollisionShape& s, const SE3& ps, const CollisionShape& other, const SE3& po, double margin,
-                    Candidates& c, bool s_is_a) {
+                    Candidates& c, bool s_is_a, const Vector3& toward = Vector3::Zero()) {
   if (s.kind == Kind::Mesh) {
     if (!s.samples) return;
     for (const Vector3& local : *s.samples) pointAgainst(ps.act(local), 0.0, other, po, margin, c, s_is_a);
@@ -89,7 +95,7 @@ void samplesAgainst(const CollisionShape& s, const SE3& ps, const CollisionShape
   }
   Vector3 pts[2 * kRimPoints + 2];
   double radius[2 * kRimPoints + 2];
-  const int n = featurePoints(s, ps, pts, radius);
+  const int n = featurePoints(s, ps, pts, radius, toward);
   for (int k = 0; k < n; ++k) pointAgainst(pts[k], radius[k], other, po, margin, c, s_is_a);
 }
 
@@ -132,7 +138,7 @@ void againstPlane(const SE3& pa, const CollisionShape& b, const SE3& pb, double 
   }
   Vector3 pts[2 * kRimPoints + 2];
   double radius[2 * kRimPoints + 2];
-  const int k = featurePoints(b, pb, pts, radius);
+  const int k = featurePoints(b, pb, pts, radius, n);
   for (int i = 0; i < k; ++i) add(pts[i], radius[i]);
 }
 
@@ -276,8 +282,8 @@ int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& 
     // corner on another's edge has no normal of its own (a stacked box's corners sit on the edges of
     // the box below), and one contact has one normal.
     const int first = c.n;
-    samplesAgainst(a, pa, b, pb, margin, c, true);
-    samplesAgainst(b, pb, a, pa, margin, c, false);
+    samplesAgainst(a, pa, b, pb, margin, c, true, d.normal);
+    samplesAgainst(b, pb, a, pa, margin, c, false, d.normal);
     extremeRimPoints(a, pa, -d.normal, b, pb, margin, c, true);
     extremeRimPoints(b, pb, d.normal, a, pa, margin, c, false);
     for (int k = first; k < c.n; ++k) c.p[k].normal = d.normal;

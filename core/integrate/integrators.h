@@ -24,7 +24,8 @@
 //   void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
 // which the two Euler schemes call after their unconstrained velocity update: v0 the start velocity,
 // v in v_free and out v+, factored the step's matrix (the linearly-implicit A, factored; null: H's),
-// and the positions then move with v_position. RK4 has no contact step (a scene with contact refuses it).
+// and the positions then move with v_position (integrateContactStep: floating joints on R^3 x SO(3)).
+// RK4 has no contact step (a scene with contact refuses it).
 #pragma once
 
 #include <type_traits>
@@ -62,8 +63,9 @@ void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, doub
     if (f.hasContacts()) {
       s.v2 = v;
       v += h * s.start.qdd;
+      worldVelocityStep(m, s.v2, h, v);
       f.constrain(s.v2, h, nullptr, v, s.v3);
-      integrateConfiguration(m, q, s.v3, h, q);
+      integrateContactStep(m, q, v, s.v3, h, q);
       return;
     }
   }
@@ -115,8 +117,9 @@ bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, doubl
     if (f.hasContacts()) {
       s.v2 = v;
       v += s.rhs;
+      worldVelocityStep(m, s.v2, h, v);
       f.constrain(s.v2, h, &s.A, v, s.v3);
-      integrateConfiguration(m, q, s.v3, h, q);
+      integrateContactStep(m, q, v, s.v3, h, q);
       return true;
     }
   }

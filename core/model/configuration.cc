@@ -93,6 +93,39 @@ void integrateConfiguration(const Model& model, const VectorX& q, const VectorX&
   }
 }
 
+void worldVelocityStep(const Model& model, const VectorX& v0, double h, VectorX& v) {
+  for (int i = 0; i < model.nb; ++i) {
+    if (model.joint_type[i] != JointType::Floating) continue;
+    const int iv = model.v_index[i];
+    v.segment<3>(iv) += h * v0.segment<3>(iv + 3).cross(v0.segment<3>(iv));
+  }
+}
+
+void integrateContactStep(const Model& model, const VectorX& q, VectorX& v, const VectorX& v_position, double h,
+                          VectorX& q_out) {
+  if (&q_out != &q) q_out = q;
+  for (int i = 0; i < model.nb; ++i) {
+    const int iq = model.q_index[i];
+    const int iv = model.v_index[i];
+    if (model.joint_type[i] != JointType::Floating) {
+      q_out[iq] = q[iq] + v_position[iv] * h;
+      continue;
+    }
+    Eigen::Quaterniond quat(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]);
+    quat.normalize();
+    const Vector3 phi = v_position.segment<3>(iv + 3) * h;
+    const double th = phi.norm();
+    const Eigen::Quaterniond dq(Eigen::AngleAxisd(th, th > 0.0 ? Vector3(phi / th) : Vector3::UnitX()));
+    const Eigen::Quaterniond next = (quat * dq).normalized();
+    q_out.segment<3>(iq) = Vector3(q[iq], q[iq + 1], q[iq + 2]) + h * (quat * Vector3(v_position.segment<3>(iv)));
+    q_out[iq + 3] = next.w();
+    q_out[iq + 4] = next.x();
+    q_out[iq + 5] = next.y();
+    q_out[iq + 6] = next.z();
+    v.segment<3>(iv) = dq.conjugate() * Vector3(v.segment<3>(iv));  // the same world velocity, in the turned frame
+  }
+}
+
 namespace {
 // [a, b] in se(3), twists ordered (linear; angular).
 Vector6 bracket(const Vector6& a, const Vector6& b) {

@@ -23,6 +23,18 @@ VectorX randomVector(int n, std::mt19937& rng, double scale = 1.0);
 // constant body twist v for dt (exact SE(3) exponential). q_out may alias q.
 void integrateConfiguration(const Model& model, const VectorX& q, const VectorX& v, double dt, VectorX& q_out);
 
+// The two Euler schemes with contact (an environment) move floating joints on R^3 x SO(3), as MuJoCo
+// moves a free joint: a body's world velocity is what the contact solve sees and what moves it.
+// Their body-frame linear velocity v turns with the body; the dynamics' -w x v (that turning, taken
+// explicitly) would add (w h)^2 / 2 of a spinning body's speed a step (a rolling ball: w h = 0.04),
+// so before the contact solve worldVelocityStep adds h w0 x v0 back (v then holds the step's world
+// velocity change in the start frame), and integrateContactStep moves the origin by h R v and turns
+// by exp(h w), and carries v into the turned frame. Joints: q + h v.
+// v0: the step's start velocity; v: in and out; v_position: what the positions move with (v+ and
+// the contact's pseudo-velocity). q_out may alias q.
+void worldVelocityStep(const Model& model, const VectorX& v0, double h, VectorX& v);
+void integrateContactStep(const Model& model, const VectorX& q, VectorX& v, const VectorX& v_position, double h,
+                          VectorX& q_out);
 // The rate of u in q = q0 (+) u when the velocity is v: v itself for the
 // joints; for a floating base dexp^{-1}_{-u}(v) = v + [u, v]/2 + [u, [u, v]]/12
 // (se(3) brackets), truncated where a 4th-order Runge-Kutta-Munthe-Kaas step

@@ -1,0 +1,271 @@
+// Contact against answers known in closed form (../docs/environment.md lists
+// them), each through the whole step: the scene, the environment model, the
+// contact layer, the linearly-implicit step.
+//   resting box: the normal forces carry m g, nothing moves;
+//   box on a 20 deg slope, mu = 1 (inside the cone): it sticks, creep < 1 um/s over 10 s;
+//   box on a 20 deg slope, mu = 0.2 (outside): it slides at g (sin - mu cos);
+//   box launched at 1 m/s, mu = 0.5: decelerates at mu g and stops where the time-stepping's own
+//     discrete solution says (and within h v0 / 2 of v0^2 / (2 mu g)); a diagonal launch alike, straight;
+//   sphere and cylinder rolling down 15 deg: (5/7) g sin and (2/3) g sin, to 5.5e-4 at 1 ms;
+//   ball dropped with restitution 0, 0.5, 1: rebound height ratio e^2 within 1 %;
+//   ten stacked boxes and 216 spheres in columns: still for 10 s;
+//   Go1 standing: the feet carry m g to 1e-6, no drift, no sinking; Talos standing on its soles;
+//   the Panda's hand against a non-convex mesh channel: overlap within 1 mm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/simulation/simulation.h"
+#include "tests/support/test_models.h"
+
+namespace igms {
+namespace {
+
+constexpr double g = 9.81;
+
+Scene sceneText(const std::string& yaml) { return parseScene(yaml, "test.yaml", test::sourceDir() + "/scenes"); }
+
+Scene shipped(const char* name) { return loadScene(test::sourceDir() + "/scenes/" + name); }
+
+// A free body's world position and velocity (its frame origin) and angular velocity.
+struct BodyState {
+  Vector3 p, v, w;
+  Matrix3 R;
+};
+
+BodyState body(const Simulation& sim, const std::string& name) {
+  const Model& m = sim.model();
+  for (const ModelPart& part : m.parts)
+    if (part.name == name) {
+      const VectorX& q = sim.q();
+      const VectorX& v = sim.v();
+      const int iq = part.q_begin, iv = part.dof_begin;
+      const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
+      return BodyState{q.segment<3>(iq), R * v.segment<3>(iv), R * v.segment<3>(iv + 3), R};
+    }
+  ADD_FAILURE() << "no body " << name;
+  return {};
+}
+
+void run(Simulation& sim, double seconds) {
+  const int steps = static_cast<int>(std::lround(seconds / sim.scene().dt));
+  for (int k = 0; k < steps; ++k) ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+}
+
+// The total contact force on the world (the ground and fixed obstacles), N.
+Vector3 forceOnWorld(const Simulation& sim) {
+  Vector3 f = Vector3::Zero();
+  for (int k = 0; k < sim.contacts().n; ++k) {
+    const Contact& c = sim.contacts()[k];
+    if (c.body_b < 0) f += c.impulse;
+    if (c.body_a < 0) f -= c.impulse;
+  }
+  return f / sim.scene().dt;
+}
+
+TEST(ContactAnalytic, ARestingBoxIsCarriedAndStill) {
+  Simulation sim(sceneText("ground: true\nbodies: [{name: box, shape: box, size: [0.3, 0.2, 0.1], mass: 2.5, xyz: [0.1, 0.2, 0.05]}]\n"));
+  run(sim, 2.0);
+  const BodyState b = body(sim, "box");
+  EXPECT_EQ(sim.contacts().n, 4) << "a flat contact: its four corners";
+  EXPECT_NEAR(forceOnWorld(sim).z(), -2.5 * g, 1e-9 * 2.5 * g) << "the normal forces carry m g";
+  EXPECT_LT(b.v.norm(), 1e-9);
+  EXPECT_LT((b.p - Vector3(0.1, 0.2, 0.05)).norm(), 1e-9);
+  EXPECT_LT(sim.contacts().maxPenetration(), 1e-6);
+}
+
+TEST(ContactAnalytic, ABoxInsideTheFrictionConeSticksOnASlope) {
+  Simulation sim(shipped("box_slope.yaml"));
+  run(sim, 0.5);
+  const Vector3 start = body(sim, "box").p;
+  run(sim, 10.0);
+  const double creep = (body(sim, "box").p - start).norm() / 10.0;
+  std::printf("box on 20 deg, mu 1: creep %.3e m/s over 10 s\n", creep);
+  EXPECT_LT(creep, 1e-6) << "1 um/s";
+  EXPECT_LT(sim.contacts().maxPenetration(), 1e-6);
+}
+
+TEST(ContactAnalytic, ABoxOutsideTheFrictionConeSlidesAtGSinMinusMuCos) {
+  const double theta = 20.0 * M_PI / 180.0, mu = 0.2;
+  char yaml[1024];
+  std::snprintf(yaml, sizeof yaml,
+                "ground: {height: 0, rpy: [0, %.17g, 0], material: m}\nmaterials: {m: {friction: %g}}\n"
+                "bodies: [{name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 1, material: m, xyz: [%.17g, 0, %.17g], "
+                "rpy: [0, %.17g, 0]}]\n",
+                theta, mu, 0.1 * std::sin(theta), 0.1 * std::cos(theta), theta);
+  Simulation sim(sceneText(yaml));
+  run(sim, 0.1);
+  const double v1 = body(sim, "box").v.norm();
+  run(sim, 0.5);
+  const double a = (body(sim, "box").v.norm() - v1) / 0.5;
+  const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+  std::printf("box on 20 deg, mu 0.2: %.6f m/s^2 (analytic %.6f)\n", a, expected);
+  EXPECT_NEAR(a, expected, 1e-9 * expected);
+}
+
+TEST(ContactAnalytic, ASlidingBoxStopsWhereCoulombSays) {
+  Simulation sim(shipped("box_slide.yaml"));
+  run(sim, 0.4);
+  const BodyState b = body(sim, "box");
+  const double h = sim.scene().dt, v0 = 1.0, a = 0.5 * g;
+  // The step's own solution: v_k = v0 - k a h while positive, x = h sum v_k (velocity, then position).
+  double x = 0.0;
+  for (int k = 1; v0 - k * a * h > 0.0; ++k) x += h * (v0 - k * a * h);
+  const double analytic = v0 * v0 / (2.0 * a);
+  std::printf("sliding box: stops at %.6f mm (discrete %.6f, analytic %.6f: %+.3f %%)\n", 1e3 * b.p.x(), 1e3 * x,
+              1e3 * analytic, 100.0 * (b.p.x() - analytic) / analytic);
+  EXPECT_NEAR(b.p.x(), x, 1e-9) << "Coulomb's deceleration exactly, every step";
+  EXPECT_NEAR(b.p.x(), analytic, 0.5 * h * v0 + 1e-6) << "a first-order step's lag, h v0 / 2";
+  EXPECT_LT(std::abs(b.p.y()), 1e-9) << "straight";
+  EXPECT_LT(b.v.norm(), 1e-9) << "stopped, and stuck";
+}
+
+TEST(ContactAnalytic, ADiagonalSlideIsIsotropic) {
+  Scene s = shipped("box_slide.yaml");
+  s.bodies[0].velocity = Vector3(std::sqrt(0.5), std::sqrt(0.5), 0.0);
+  Simulation diagonal(s), straight(shipped("box_slide.yaml"));
+  run(diagonal, 0.4);
+  run(straight, 0.4);
+  const Vector3 d = body(diagonal, "box").p, x = body(straight, "box").p;
+  EXPECT_NEAR(std::hypot(d.x(), d.y()), x.x(), 1e-9) << "the same distance whatever the direction";
+  EXPECT_NEAR(d.x(), d.y(), 1e-9) << "along the launch";
+}
+
+double rollingAcceleration(const char* shape, double theta, double* omega_error) {
+  const double r = 0.05;
+  char yaml[1024];
+  const Vector3 n(std::sin(theta), 0.0, std::cos(theta));  // the slope plane turned about y by theta: its normal
+  const Vector3 at = r * n;
+  const bool cylinder = std::string(shape) == "cylinder";
+  // A cylinder lies across the slope, its axis along y.
+  std::snprintf(yaml, sizeof yaml,
+                "ground: {height: 0, rpy: [0, %.17g, 0]}\nbodies: [{name: b, shape: %s, radius: %g%s, mass: 1, "
+                "xyz: [%.17g, 0, %.17g], rpy: [%s, %.17g, 0]}]\n",
+                theta, shape, r, cylinder ? ", length: 0.2" : "", at.x(), at.z(), cylinder ? "1.5707963267948966" : "0",
+                theta);
+  Simulation sim(sceneText(yaml));
+  run(sim, 1.0);
+  const BodyState b = body(sim, "b");
+  const double v = b.v.norm(), w = b.w.norm();
+  *omega_error = std::abs(w * r - v) / v;
+  return v / 1.0;  // from rest: a = v / t
+}
+
+TEST(ContactAnalytic, ASphereAndACylinderRollDownASlope) {
+  const double theta = 15.0 * M_PI / 180.0;
+  double w_err = 0.0;
+  const double sphere = rollingAcceleration("sphere", theta, &w_err);
+  const double expected_sphere = 5.0 / 7.0 * g * std::sin(theta);
+  std::printf("sphere rolling down 15 deg: %.8f m/s^2 (analytic %.8f), |w r - v| / v = %.1e\n", sphere, expected_sphere,
+              w_err);
+  EXPECT_NEAR(sphere, expected_sphere, 5.5e-4 * expected_sphere);
+  EXPECT_LT(w_err, 5.5e-4) << "rolling without slip";
+  const double cylinder = rollingAcceleration("cylinder", theta, &w_err);
+  const double expected_cylinder = 2.0 / 3.0 * g * std::sin(theta);
+  std::printf("cylinder rolling down 15 deg: %.8f m/s^2 (analytic %.8f), |w r - v| / v = %.1e\n", cylinder,
+              expected_cylinder, w_err);
+  EXPECT_NEAR(cylinder, expected_cylinder, 5.5e-4 * expected_cylinder);
+  EXPECT_LT(w_err, 5.5e-4);
+}
+
+TEST(ContactAnalytic, ADroppedBallReboundsToEToTheSquare) {
+  for (const double e : {0.0, 0.5, 1.0}) {
+    char yaml[512];
+    std::snprintf(yaml, sizeof yaml,
+                  "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, restitution: %g}}\n"
+                  "bodies: [{name: ball, shape: sphere, radius: 0.05, mass: 0.2, xyz: [0, 0, 1.05], material: m}]\n",
+                  e);
+    Simulation sim(sceneText(yaml));
+    double lowest = 1e9, apex = 0.0;
+    bool bounced = false;
+    for (int k = 0; k < 2500; ++k) {
+      ASSERT_TRUE(sim.step(nullptr));
+      const BodyState b = body(sim, "ball");
+      const double height = b.p.z() - 0.05;
+      if (!bounced && b.v.z() > 0.0) bounced = true;
+      if (!bounced) lowest = std::min(lowest, height);
+      if (bounced) apex = std::max(apex, height);
+      if (bounced && b.v.z() < 0.0 && apex > 0.0) break;
+    }
+    std::printf("ball dropped from 1 m, e = %.1f: rebounds to %.5f m (e^2 = %.2f)\n", e, apex, e * e);
+    if (e == 0.0) {
+      EXPECT_LT(apex, 1e-6) << "no bounce";
+    } else {
+      EXPECT_NEAR(apex, e * e, 0.01 * e * e);
+    }
+    EXPECT_GT(lowest, -1e-4) << "the ball never sinks in";
+  }
+}
+
+// Still: every free body's speed below 1e-6 m/s, overlap within 0.1 mm, for 10 s.
+void expectStill(const char* name) {
+  Simulation sim(shipped(name));
+  double speed = 0.0, overlap = 0.0;
+  for (int k = 0; k < 10000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    for (const ModelPart& part : sim.model().parts)
+      if (part.free_body) speed = std::max(speed, body(sim, part.name).v.norm());
+    overlap = std::max(overlap, sim.contacts().maxPenetration());
+  }
+  std::printf("%s over 10 s: largest speed %.2e m/s, largest overlap %.2e m\n", name, speed, overlap);
+  EXPECT_LT(speed, 1e-6) << name;
+  EXPECT_LE(overlap, 1e-4) << name;
+}
+
+TEST(ContactAnalytic, TenStackedBoxesStandStill) { expectStill("box_tower.yaml"); }
+
+TEST(ContactAnalytic, ThePileOf216SpheresStandsStill) { expectStill("sphere_pile.yaml"); }
+
+TEST(ContactAnalytic, Go1StandsOnItsFeet) {
+  Simulation sim(shipped("go1_stand.yaml"));
+  run(sim, 5.0);  // settles onto its PD's sag
+  const Vector3 base = sim.q().head<3>();
+  double sink = 0.0;
+  for (int k = 0; k < 10000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    sink = std::max(sink, sim.contacts().maxPenetration());
+  }
+  const double drift = (sim.q().head<3>() - base).norm(), weight = sim.model().totalMass() * g;
+  const double carried = -forceOnWorld(sim).z();
+  std::printf("Go1: %d feet carry %.9f N (m g %.9f N), base drift %.2e m over 10 s, deepest foot %.2e m\n",
+              sim.contacts().n, carried, weight, drift, sink);
+  EXPECT_EQ(sim.contacts().n, 4);
+  EXPECT_NEAR(carried, weight, 1e-6 * weight);
+  EXPECT_LT(drift, 1e-4);
+  EXPECT_LE(sink, 1e-4);
+}
+
+TEST(ContactAnalytic, TalosStandsOnItsSoles) {
+  if (!std::ifstream(test::sourceDir() + "/third_party/example-robot-data/robots/talos_data/robots/talos_full_v2.urdf"))
+    GTEST_SKIP() << "example-robot-data not fetched";
+  Simulation sim(shipped("talos_stand.yaml"));
+  run(sim, 3.0);
+  const Vector3 base = sim.q().head<3>();
+  run(sim, 2.0);
+  const double drift = (sim.q().head<3>() - base).norm(), weight = sim.model().totalMass() * g;
+  std::printf("Talos: %d sole points carry %.6f N (m g %.6f N), base drift %.2e m over 2 s\n", sim.contacts().n,
+              -forceOnWorld(sim).z(), weight, drift);
+  EXPECT_EQ(sim.contacts().n, 8) << "each sole's four corners";
+  EXPECT_NEAR(-forceOnWorld(sim).z(), weight, 1e-6 * weight);
+  EXPECT_LT(drift, 1e-4);
+}
+
+TEST(ContactAnalytic, APandaLinkAgainstANonConvexMeshStaysOutOfIt) {
+  if (!std::ifstream(test::sourceDir() + "/third_party/example-robot-data/robots/panda_description/urdf/panda.urdf"))
+    GTEST_SKIP() << "example-robot-data not fetched";
+  Simulation sim(shipped("panda_channel.yaml"));
+  double overlap = 0.0;
+  int touching = 0;
+  for (int k = 0; k < 4000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    overlap = std::max(overlap, sim.contacts().maxPenetration());
+    touching += sim.contacts().n > 0;
+  }
+  std::printf("Panda against the U channel: in contact %d of 4000 steps, deepest overlap %.2e m\n", touching, overlap);
+  EXPECT_GT(touching, 1000) << "the hand is held by the channel";
+  EXPECT_LE(overlap, 1e-3);
+}
+
+}  // namespace
+}  // namespace igms
