@@ -1,0 +1,135 @@
+// Contact against ODE 0.16 (Debian), an independent simulator with a contact
+// solver of its own (the LCP of dWorldStep, Dantzig's method), on the same scenes
+// of free bodies (tools/ode_ref/ode_contact_scene.h: dContactApprox1, fdir1 along
+// the slip, ERP 0.2 and CFM 1e-10 set). Both are first-order time steppers with
+// hard Coulomb contact, so at the same step they should agree closely:
+//   the sliding box's x(t) within 1e-3 of its travel, a diagonal launch as far;
+//   the box on the 20 deg slope sticks in both;
+//   the ball's rebound (e = 0.5) and the sphere rolling down 15 deg.
+// What ODE does differently is reported (its pyramid, its impact time).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/simulation/simulation.h"
+#include "tests/support/test_models.h"
+#include "tools/ode_ref/ode_contact_scene.h"
+
+namespace igms {
+namespace {
+
+constexpr double g = 9.81;
+
+Scene sceneText(const std::string& yaml) { return parseScene(yaml, "test.yaml", test::sourceDir() + "/scenes"); }
+Scene shipped(const char* name) { return loadScene(test::sourceDir() + "/scenes/" + name); }
+
+// igms's free body k: world position and velocity.
+Vector3 igmsPosition(const Simulation& sim, int k) {
+  return sim.q().segment<3>(sim.model().parts[static_cast<size_t>(k)].q_begin);
+}
+Vector3 igmsVelocity(const Simulation& sim, int k) {
+  const ModelPart& part = sim.model().parts[static_cast<size_t>(k)];
+  const VectorX& q = sim.q();
+  const int iq = part.q_begin;
+  const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
+  return R * sim.v().segment<3>(part.dof_begin);
+}
+
+TEST(OdeContact, TheSlidingBoxFollowsOdesPathAndStopsWhereItDoes) {
+  const Scene scene = shipped("box_slide.yaml");
+  Simulation sim(scene);
+  OdeContactScene ode(resolveScene(scene));
+  const double h = scene.dt;
+  double worst = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    ode.step(h);
+    worst = std::max(worst, (igmsPosition(sim, 0) - ode.pose(0).p).norm());
+  }
+  const double travel = igmsPosition(sim, 0).x();
+  std::printf("sliding box: igms stops at %.6f mm, ODE at %.6f mm; x(t) apart by %.2e m at most (%.2e of the travel)\n",
+              1e3 * travel, 1e3 * ode.pose(0).p.x(), worst, worst / travel);
+  EXPECT_LT(worst, 1e-3 * travel);
+}
+
+TEST(OdeContact, ADiagonalSlideGoesAsFarInBoth) {
+  Scene scene = shipped("box_slide.yaml");
+  scene.bodies[0].velocity = Vector3(std::sqrt(0.5), std::sqrt(0.5), 0.0);
+  Simulation sim(scene);
+  OdeContactScene ode(resolveScene(scene));
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    ode.step(scene.dt);
+  }
+  const Vector3 a = igmsPosition(sim, 0), b = ode.pose(0).p;
+  std::printf("diagonal slide: igms %.6f mm along (%.2e across), ODE %.6f mm along (%.2e across)\n",
+              1e3 * std::hypot(a.x(), a.y()), std::abs(a.x() - a.y()), 1e3 * std::hypot(b.x(), b.y()),
+              std::abs(b.x() - b.y()));
+  EXPECT_NEAR(std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), 1e-3 * std::hypot(a.x(), a.y()));
+}
+
+TEST(OdeContact, TheBoxOnTheSlopeSticksInBoth) {
+  const Scene scene = shipped("box_slope.yaml");
+  Simulation sim(scene);
+  OdeContactScene ode(resolveScene(scene));
+  for (int k = 0; k < 500; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    ode.step(scene.dt);
+  }
+  const Vector3 a0 = igmsPosition(sim, 0), b0 = ode.pose(0).p;
+  for (int k = 0; k < 5000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    ode.step(scene.dt);
+  }
+  const double creep_igms = (igmsPosition(sim, 0) - a0).norm() / 5.0, creep_ode = (ode.pose(0).p - b0).norm() / 5.0;
+  std::printf("box on 20 deg, mu 1, over 5 s: igms creeps %.2e m/s, ODE %.2e m/s\n", creep_igms, creep_ode);
+  EXPECT_LT(creep_igms, 1e-6);
+  EXPECT_LT(creep_ode, 1e-5) << "ODE's LCP sticks too (its ERP correction aside)";
+}
+
+TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
+  {
+    const Scene scene = sceneText(
+        "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, restitution: 0.5}}\n"
+        "bodies: [{name: ball, shape: sphere, radius: 0.05, mass: 0.2, xyz: [0, 0, 1.05], material: m}]\n");
+    Simulation sim(scene);
+    OdeContactScene ode(resolveScene(scene));
+    double apex_igms = 0.0, apex_ode = 0.0;
+    for (int k = 0; k < 1200; ++k) {
+      ASSERT_TRUE(sim.step(nullptr));
+      ode.step(scene.dt);
+      if (k > 500) {
+        apex_igms = std::max(apex_igms, igmsPosition(sim, 0).z() - 0.05);
+        apex_ode = std::max(apex_ode, ode.pose(0).p.z() - 0.05);
+      }
+    }
+    std::printf("ball from 1 m, e = 0.5: igms rebounds to %.5f m, ODE to %.5f m (e^2 = 0.25)\n", apex_igms, apex_ode);
+    EXPECT_NEAR(apex_igms, 0.25, 0.0025);
+    EXPECT_NEAR(apex_ode, apex_igms, 0.03 * apex_igms) << "ODE bounces from where it found the overlap";
+  }
+  {
+    const double theta = 15.0 * M_PI / 180.0, r = 0.05;
+    char yaml[512];
+    std::snprintf(yaml, sizeof yaml,
+                  "ground: {height: 0, rpy: [0, %.17g, 0]}\nbodies: [{name: b, shape: sphere, radius: %g, mass: 1, "
+                  "xyz: [%.17g, 0, %.17g]}]\n",
+                  theta, r, r * std::sin(theta), r * std::cos(theta));
+    const Scene scene = sceneText(yaml);
+    Simulation sim(scene);
+    OdeContactScene ode(resolveScene(scene));
+    for (int k = 0; k < 1000; ++k) {
+      ASSERT_TRUE(sim.step(nullptr));
+      ode.step(scene.dt);
+    }
+    const double expected = 5.0 / 7.0 * g * std::sin(theta);
+    const double a_igms = igmsVelocity(sim, 0).norm(), a_ode = ode.velocity(0).norm();
+    std::printf("sphere rolling down 15 deg, after 1 s: igms %.6f m/s, ODE %.6f m/s (analytic %.6f)\n", a_igms, a_ode,
+                expected);
+    EXPECT_NEAR(a_igms, expected, 5.5e-4 * expected);
+    EXPECT_NEAR(a_ode, a_igms, 1e-2 * a_igms);
+  }
+}
+
+}  // namespace
+}  // namespace igms
