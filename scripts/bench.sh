@@ -4,6 +4,9 @@
 #   scripts/bench.sh [igms-bench options]
 #   scripts/bench.sh --peers [--rounds N] [--robots a,b]   igms vs Pinocchio and MuJoCo (PyPI pin and
 #       mujoco in .venv-peers, igms-peer-bench built in build-peers/), interleaved rounds, ratios
+#   scripts/bench.sh --contact [--rounds N] [--steps N]    igms's step vs MuJoCo's mj_step on the contact scenes
+#       (the same models as MJCF from scripts/contact_peers.py), interleaved, medians and ratios; then what
+#       each does on them (creep, sinking, stopping distance) -> out/bench/contact*.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
@@ -16,6 +19,21 @@ if [[ ${1:-} == --peers ]]; then
     { echo "bench.sh: configuring the peer benchmark failed (out/bench/peers.configure.log)" >&2; exit 1; }
   cmake --build build-peers --target igms-peer-bench >/dev/null
   /usr/bin/python3 bench/peer_table.py build build-peers --json out/bench/peers.json "$@" | tee out/bench/peers.txt
+  exit "${PIPESTATUS[0]}"
+fi
+if [[ ${1:-} == --contact ]]; then
+  shift
+  site=$(scripts/peer_env.sh)
+  cmake -S . -B build-peers -G Ninja -DCMAKE_BUILD_TYPE=Release -DIGMS_PEER_BENCH=ON -DIGMS_PEER_SITE="$site" \
+    -DIGMS_BUILD_TESTS=OFF -DIGMS_WITH_WEB=OFF >out/bench/peers.configure.log 2>&1 ||
+    { echo "bench.sh: configuring the peer benchmark failed (out/bench/peers.configure.log)" >&2; exit 1; }
+  cmake --build build-peers --target igms-contact-bench igms-dyn >/dev/null
+  scenes=(go1_stand talos_stand box_slope box_slide box_tower sphere_pile)
+  args=()
+  for s in "${scenes[@]}"; do args+=(--scene "scenes/$s.yaml"); done
+  .venv-peers/bin/python scripts/contact_peers.py "${args[@]}" --out out/bench/mjcf
+  build-peers/bench/igms-contact-bench --mjcf-dir out/bench/mjcf "${args[@]}" --json out/bench/contact.json "$@" |
+    tee out/bench/contact.txt
   exit "${PIPESTATUS[0]}"
 fi
 build/bench/igms-bench --json out/bench/igms_vs_kdl.json "$@" | tee out/bench/igms_vs_kdl.txt
