@@ -57,7 +57,6 @@ ContactSolver::ContactSolver(const Model& model, const ContactModel& contacts) :
   tree_count_.assign(model.parts.size(), 0);
   tree_touched_.assign(model.parts.size(), 0);
   scratch_ = VectorX::Zero(model.nv);
-  x_.assign(kMaxRows, VectorX::Zero(model.nv));
   previous_.resize(static_cast<size_t>(capacity));
   island_.resize(static_cast<size_t>(capacity));
   queue_.resize(static_cast<size_t>(capacity));
@@ -138,41 +137,37 @@ void ContactSolver::build(const Data& data, const MatrixX& LD, const ContactSet&
     }
     g.entries = count;
     // J: a row per normal, then the friction rows (at the point, or the patch's centroid).
+    // Each row as a spatial vector [d; p x d] (the velocity of point p along d is its dot with the
+    // dof's world twist [v; w]); a torsion row [0; n].
     const int P = g.points;
+    Vector6 row[kMaxRows];
+    for (int k = 0; k < P; ++k) row[k] << contacts[i + k].normal, contacts[i + k].point.cross(contacts[i + k].normal);
+    row[P] << g.t1, g.centroid.cross(g.t1);
+    row[P + 1] << g.t2, g.centroid.cross(g.t2);
+    if (g.patch) row[P + 2] << Vector3::Zero(), g.n;
     for (int e = 0; e < count; ++e) {
-      const auto S = data.S_world.col(dof_[static_cast<size_t>(entry + e)]);
-      const Vector3 Sv = S.head<3>(), Sw = S.tail<3>();
+      const Eigen::Map<const Vector6> S(data.S_world.col(dof_[static_cast<size_t>(entry + e)]).data());
       double* const J = J_.data() + value;
-      auto linear = [&](const Vector3& d, const Vector3& p) { return sign[e] * (d.dot(Sv) + p.cross(d).dot(Sw)); };
-      for (int k = 0; k < P; ++k) J[k * count + e] = linear(contacts[i + k].normal, contacts[i + k].point);
-      J[P * count + e] = linear(g.t1, g.centroid);
-      J[(P + 1) * count + e] = linear(g.t2, g.centroid);
-      if (g.patch) J[(P + 2) * count + e] = sign[e] * g.n.dot(Sw);
+      for (int r = 0; r < g.rows; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
     }
-    // X = L^-T J^T: from each entry down to its ancestors (entries too: a chain is closed upward).
-    for (int r = 0; r < g.rows; ++r) {
-      VectorX& x = x_[static_cast<size_t>(r)];
-      const double* const J = J_.data() + value + r * count;
-      for (int e = 0; e < count; ++e) x[dof_[static_cast<size_t>(entry + e)]] = J[e];
+    // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
+    // upward), found below it in the ascending list; from the last entry down, each passes its value
+    // up its chain.
+    int up[2 * 64];
+    for (int e = 0; e < count; ++e) {
+      const int parent = model_.dof_parent[dof_[static_cast<size_t>(entry + e)]];
+      int a = e - 1;
+      while (a >= 0 && dof_[static_cast<size_t>(entry + a)] != parent) --a;
+      up[e] = parent < 0 ? -1 : a;
     }
+    std::copy(J_.begin() + value, J_.begin() + value + g.rows * count, X_.begin() + value);
     for (int e = count - 1; e >= 0; --e) {
-      const int k = dof_[static_cast<size_t>(entry + e)];
-      const double* const lk = ld + static_cast<std::ptrdiff_t>(k) * nv;
-      forEachAncestorRun(model_.dof_parent, model_.dof_run_start, model_.dof_parent[k], [&](int s, int j) {
-        for (int r = 0; r < g.rows; ++r) {
-          double* const x = x_[static_cast<size_t>(r)].data();
-          const double xk = x[k];
-          for (int t = s; t <= j; ++t) x[t] -= lk[t] * xk;
-        }
-      });
-    }
-    for (int r = 0; r < g.rows; ++r) {
-      VectorX& x = x_[static_cast<size_t>(r)];
-      double* const X = X_.data() + value + r * count;
-      for (int e = 0; e < count; ++e) {
-        const int k = dof_[static_cast<size_t>(entry + e)];
-        X[e] = x[k];
-        x[k] = 0.0;
+      const double* const lk = ld + static_cast<std::ptrdiff_t>(dof_[static_cast<size_t>(entry + e)]) * nv;
+      for (int r = 0; r < g.rows; ++r) {
+        double* const X = X_.data() + value + r * count;
+        const double xk = X[e];
+        if (xk == 0.0) continue;
+        for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(entry + a)]] * xk;
       }
     }
     g.W.setZero();
@@ -248,6 +243,18 @@ void ContactSolver::couple(int ng) {
         }
         const Group& h = groups_[static_cast<size_t>(hi)];
         Block& W = block_[static_cast<size_t>(pool)];
+        nbr_[static_cast<size_t>(pool)] = hi;
+        ++pool;
+        ++g.nbr_count;
+        // W_gh = W_hg^T: an earlier pair has it already.
+        if (hi < gi) {
+          int m2 = 0;
+          while (m2 < h.nbr_count && nbr_[static_cast<size_t>(h.nbr_first + m2)] != gi) ++m2;
+          if (m2 < h.nbr_count) {
+            W = block_[static_cast<size_t>(h.nbr_first + m2)].transpose();
+            continue;
+          }
+        }
         W.setZero();
         int p = 0, q = 0;
         while (p < g.entries && q < h.entries) {
@@ -266,9 +273,6 @@ void ContactSolver::couple(int ng) {
             ++q;
           }
         }
-        nbr_[static_cast<size_t>(pool)] = hi;
-        ++pool;
-        ++g.nbr_count;
       }
     }
   }

@@ -123,7 +123,6 @@ class ContactSolver {
   std::vector<int> tree_count_;
   std::vector<char> tree_touched_;
   VectorX scratch_;
-  std::vector<VectorX> x_;                    // per row of a group: L^-T J^T scratch (nv each)
   // The last step's contacts, for the warm start: pair, point, normal impulse; and per pair its
   // friction (world force at the centroid, torsion about the normal).
   struct Previous {

@@ -39,7 +39,10 @@ void crbaUpper(const Model& model, Data& data, bool compose_world_poses) {
     const int p = model.parent[i];
     if (compose_world_poses) data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
     const SE3& oMi = data.oMi[i];
-    model.inertia[i].transformInto(oMi, data.Ic[i]);
+    // A free body (a floating joint with nothing below): its block of H is its own inertia in its own
+    // frame, whatever its pose (S^T Ic S with S the unit twists of its frame); only S is needed here.
+    const bool free_body = model.joint_type[i] == JointType::Floating && model.children[i].empty();
+    if (!free_body) model.inertia[i].transformInto(oMi, data.Ic[i]);
     auto S = data.S_world.middleCols(model.v_index[i], model.joint_nv[i]);
     switch (model.joint_type[i]) {
       case JointType::Revolute: {
@@ -54,13 +57,27 @@ void crbaUpper(const Model& model, Data& data, bool compose_world_poses) {
         break;
     }
   }
-  // Composite inertias: children add into parents.
+  // Composite inertias: children add into parents (a free body has neither).
   for (int i = model.nb - 1; i >= 0; --i)
     if (model.parent[i] >= 0) data.Ic[model.parent[i]] += data.Ic[i];
 
   // Column c of the upper triangle: S_j^T (Ic S_c) for c's own dof and every ancestor dof j, a dot
   // product each, written down the column's contiguous rows run by run.
   for (int i = model.nb - 1; i >= 0; --i) {
+    if (model.joint_type[i] == JointType::Floating && model.children[i].empty()) {
+      const SpatialInertia& I = model.inertia[i];
+      const Matrix3 hx = skew(I.h);
+      const int v0 = model.v_index[i];
+      for (int c = 0; c < 6; ++c)
+        for (int r = 0; r <= c; ++r) {
+          double x;
+          if (c < 3) x = r == c ? I.m : 0.0;              // m 1
+          else if (r < 3) x = -hx(r, c - 3);               // -[h]x
+          else x = I.Io(r - 3, c - 3);                     // Io
+          data.H(v0 + r, v0 + c) = x;
+        }
+      continue;
+    }
     for (int k = 0; k < model.joint_nv[i]; ++k) {
       const int c = model.v_index[i] + k;
       const Force F = data.Ic[i] * Motion{data.S_world.col(c).head<3>(), data.S_world.col(c).tail<3>()};
