@@ -144,6 +144,14 @@ def main():
         acting = collections.Counter(r["seq"] for r in csv.DictReader(open(os.path.join(exp, "hands.csv")))
                                      if int(r["mode"]) != 0)
         summary["steps_with_several_hands"] = sum(1 for n in acting.values() if n > 1)
+    env_path = os.path.join(exp, "environment.csv")
+    if os.path.exists(env_path):  # an environment: its free bodies and its contacts, from the re-simulation
+        env = list(csv.DictReader(open(env_path)))
+        names = [h[:-2] for h in env[0] if h.endswith(".x") and h[:-2] + ".qz" in env[0]]
+        summary["bodies"] = {n: {"start": [round(float(env[0][f"{n}.{c}"]), 4) for c in "xyz"],
+                                 "end": [round(float(env[-1][f"{n}.{c}"]), 4) for c in "xyz"]} for n in names}
+        summary["max_contacts"] = max(int(r["contacts"]) for r in env)
+        summary["max_penetration_m"] = max(float(r["max_penetration"]) for r in env)
     if "wall" in obstacles:  # the paper's scene: its target is at the wall
         summary["reached_wall"], summary["reached_wall_s"] = summary["reached_target"], summary["reached_target_s"]
     json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=2)
@@ -178,6 +186,11 @@ def main():
         lines.append(f"- hand of client {c}: " + ("; ".join(parts) or "no interaction") + loop)
     if summary.get("hands"):
         lines.append(f"- several hands on the robot at once in {summary['steps_with_several_hands']} steps")
+    if "bodies" in summary:
+        for n, b in summary["bodies"].items():
+            lines.append(f"- free body `{n}`: from {b['start']} to {b['end']} m")
+        lines.append(f"- contact: up to {summary['max_contacts']} points at once, deepest overlap "
+                     f"{summary['max_penetration_m'] * 1000:.3f} mm")
     if client and not summary.get("hands"):
         lines.append(f"- haptic client: {summary['client_rate_hz']:.1f} Hz, {summary['deadline_misses']} deadline "
                      f"misses, round trip p50 {summary['round_trip_p50_us']} us, p99 {summary['round_trip_p99_us']} us")

@@ -74,4 +74,19 @@ void appendTree(Model& env, const Model& tree, const std::string& part_name, con
   env.parts.push_back(part);
 }
 
+std::vector<std::string> coordinateNames(const Model& model) {
+  std::vector<std::string> out;
+  int robots = 0;
+  for (const ModelPart& part : model.parts) robots += !part.free_body;
+  for (const ModelPart& part : model.parts) {
+    if (part.free_body) {
+      for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz"}) out.push_back(part.name + "." + c);
+      continue;
+    }
+    const std::string prefix = robots > 1 || !part.name.empty() ? part.name + "." : "";
+    for (int k = 0; k < part.nq(); ++k) out.push_back(prefix + "q" + std::to_string(k));
+  }
+  return out;
+}
+
 }  // namespace igms

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/model/model.h"
 
@@ -20,5 +21,10 @@ Model emptyEnvironment(const std::string& name, const std::string& source, const
 // root's pose is in the coordinates, not here.
 void appendTree(Model& env, const Model& tree, const std::string& part_name, const std::string& prefix, const SE3& base,
                 bool free_body);
+
+// A name for each coordinate of q, as the tools' CSV columns give them: q0... for the robot of a
+// one-robot model, ROBOT.q0... with several robots (or a named one), and NAME.x NAME.y NAME.z NAME.qw
+// NAME.qx NAME.qy NAME.qz for a free body's pose.
+std::vector<std::string> coordinateNames(const Model& model);
 
 }  // namespace igms

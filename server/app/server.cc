@@ -185,6 +185,10 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver
     std::fprintf(stderr, "igms-server: %s\n", e.what());
     return 2;
   }
+  if (const std::string why = stateTooLarge(sim->model(), scene_path); !why.empty()) {
+    std::fprintf(stderr, "igms-server: %s\n", why.c_str());
+    return 2;
+  }
   receiver.startSession(sim->model(), token);
   if (!o.quiet) printStart(*sim, scene_path, o, token);
   printWarnings(*sim);  // even with --quiet: a silent no-op is worse than a line

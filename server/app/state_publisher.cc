@@ -10,26 +10,42 @@
 
 namespace igms {
 
+robot_state_t sizedStateMessage(const Model& m) {
+  robot_state_t msg{};
+  msg.nq = m.nq;
+  msg.nv = m.nv;
+  msg.q.resize(static_cast<size_t>(m.nq));
+  msg.v.resize(static_cast<size_t>(m.nv));
+  msg.qdd.resize(static_cast<size_t>(m.nv));
+  msg.tau.resize(static_cast<size_t>(m.nv));
+  msg.nlinks = static_cast<int32_t>(m.frames.size());
+  msg.link_poses.assign(m.frames.size(), std::vector<double>(7, 0.0));
+  // The hand arrays keep kMaxHands rows; nhands says how many are sent (the
+  // generated encoder reads the count, not the vectors' sizes): no allocation per state.
+  msg.hand_client.assign(kMaxHands, -1);
+  msg.hand_input_seq.assign(kMaxHands, -1);
+  msg.hand_mode.assign(kMaxHands, 0);
+  msg.hand_force.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg.hand_torque.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg.hand_point.assign(kMaxHands, std::vector<double>(3, 0.0));
+  msg.nhands = kMaxHands;
+  return msg;
+}
+
+std::string stateTooLarge(const Model& m, const std::string& scene) {
+  robot_state_t msg = sizedStateMessage(m);
+  const int size = msg.getEncodedSize();
+  if (size <= kMaxDatagramBytes) return "";
+  return scene + ": its state message would be " + std::to_string(size) + " bytes (nq " + std::to_string(m.nq) +
+         ", nv " + std::to_string(m.nv) + ", " + std::to_string(m.frames.size()) +
+         " links), more than one LCM datagram holds (" + std::to_string(kMaxDatagramBytes) +
+         "): fewer bodies, or fewer links (fixed joints merge their links' bodies but keep their frames)";
+}
+
 StatePublisher::StatePublisher(lcm::LCM& bus, const Model& m, const std::vector<Obstacle>& obstacles,
                                FaultInjection faults, bool quiet)
     : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
-  msg_.nq = m.nq;
-  msg_.nv = m.nv;
-  msg_.q.resize(static_cast<size_t>(m.nq));
-  msg_.v.resize(static_cast<size_t>(m.nv));
-  msg_.qdd.resize(static_cast<size_t>(m.nv));
-  msg_.tau.resize(static_cast<size_t>(m.nv));
-  msg_.nlinks = static_cast<int32_t>(m.frames.size());
-  msg_.link_poses.assign(m.frames.size(), std::vector<double>(7, 0.0));
-  // The hand arrays keep kMaxHands rows; nhands says how many are sent (the
-  // generated encoder reads the count, not the vectors' sizes): no allocation per state.
-  msg_.hand_client.assign(kMaxHands, -1);
-  msg_.hand_input_seq.assign(kMaxHands, -1);
-  msg_.hand_mode.assign(kMaxHands, 0);
-  msg_.hand_force.assign(kMaxHands, std::vector<double>(3, 0.0));
-  msg_.hand_torque.assign(kMaxHands, std::vector<double>(3, 0.0));
-  msg_.hand_point.assign(kMaxHands, std::vector<double>(3, 0.0));
-  msg_.nhands = kMaxHands;
+  msg_ = sizedStateMessage(m);
   buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
   stats_.step_times_us.reserve(4096);
 }

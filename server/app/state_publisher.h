@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+#include <string>
+
 #include "igms/robot_state_t.hpp"
 #include "server/app/joint_limit_report.h"
 #include "server/collision/collision_world.h"
@@ -34,6 +36,15 @@ struct PublishStats {
   std::vector<double> step_times_us;   // since the status last drained them
   JointLimitReport limits;             // joints beyond their position limits, over the run
 };
+
+// One LCM datagram's payload at most (LCM 1.3.1 sends a message as one UDP datagram; a larger one
+// fragments, and a lost fragment loses the state).
+constexpr int kMaxDatagramBytes = 65499;
+
+// A state message sized for the model (every link's pose, kMaxHands hand rows).
+robot_state_t sizedStateMessage(const Model& model);
+// "" when the model's state fits one datagram; else why not, naming the sizes.
+std::string stateTooLarge(const Model& model, const std::string& scene);
 
 class StatePublisher {
  public:

@@ -41,12 +41,8 @@ int info(const Model& model, std::ostream& out) {
   auto kinds = [&](const std::vector<CollisionShape>& shapes) {
     w.beginArray();
     for (const CollisionShape& c : shapes) {
-      switch (c.kind) {
-        case CollisionShape::Kind::Box: w.string("box"); break;
-        case CollisionShape::Kind::Cylinder: w.string("cylinder"); break;
-        case CollisionShape::Kind::Sphere: w.string("sphere"); break;
-        case CollisionShape::Kind::Mesh: w.string("mesh " + c.mesh_file); break;
-      }
+      if (c.kind == CollisionShape::Kind::Mesh) w.string("mesh " + c.mesh_file);
+      else w.string(shapeKindName(c.kind));
     }
     w.endArray();
   };
@@ -61,6 +57,22 @@ int info(const Model& model, std::ostream& out) {
     w.key("visual");
     kinds(visual);
     w.key("touchable").raw(touchable && f.body >= 0 ? "true" : "false").endObject();
+  }
+  w.endArray();
+  // The environment's trees: each robot and each free body, and where its coordinates are.
+  w.key("parts").beginArray();
+  for (const ModelPart& p : model.parts) {
+    w.beginObject()
+        .key("name").string(p.name)
+        .key("kind").string(p.free_body ? "free_body" : "robot")
+        .key("mass").number([&] {
+          double m = 0.0;
+          for (int b = p.body_begin; b < p.body_end; ++b) m += model.inertia[static_cast<size_t>(b)].m;
+          return m;
+        }())
+        .key("q_index").integer(p.q_begin).key("nq").integer(p.nq())
+        .key("v_index").integer(p.dof_begin).key("nv").integer(p.nv())
+        .endObject();
   }
   w.endArray().endObject();
   out << w.str() << '\n';

@@ -1,5 +1,6 @@
 // igms-dyn: the command-line door to igms's kinematics and dynamics.
 //   igms-dyn info  --model ROBOT.urdf [--floating-base]
+//   igms-dyn info  --scene SCENE.yaml         the scene's environment: its robots and free bodies as parts
 //   igms-dyn eval  --model ROBOT.urdf [--floating-base] < in.jsonl > out.jsonl
 //   igms-dyn bench --model ROBOT.urdf [--floating-base] [--json]
 // See README.md for the JSON contract. Exit codes: 0 done, 1 a bad input
@@ -9,10 +10,11 @@
 
 #include "core/cli/command_line.h"
 #include "core/model_io/model_loader.h"
+#include "core/scene/resolved_scene.h"
 #include "tools/igms_dyn/commands.h"
 
 int main(int argc, char** argv) {
-  std::string model_path;
+  std::string model_path, scene_path;
   bool floating = false, json = false, verbose = false;
   CLI::App app{"", "igms-dyn"};
   igms::cli::describe(app, "igms's kinematics and dynamics on a URDF or DH model, as JSON.");
@@ -25,7 +27,11 @@ int main(int argc, char** argv) {
   app.add_flag("--floating-base", floating, "a free root (7 q, 6 v first)");
   app.add_flag("--verbose", verbose, "print the model's load warnings");
   for (CLI::App* cmd : {info, eval, bench}) {
-    cmd->add_option("--model", model_path, "ROBOT.urdf or ROBOT.dh.yaml")->required()->check(CLI::ExistingFile);
+    auto* m = cmd->add_option("--model", model_path, "ROBOT.urdf or ROBOT.dh.yaml")->check(CLI::ExistingFile);
+    auto* s = cmd->add_option("--scene", scene_path, "SCENE.yaml: its environment (robots and free bodies)")
+                  ->check(CLI::ExistingFile);
+    m->excludes(s);
+    cmd->require_option(1, 2);
     cmd->fallthrough();
   }
   bench->add_flag("--json", json, "one JSON object");
@@ -34,9 +40,15 @@ int main(int argc, char** argv) {
   igms::Model model;
   std::vector<std::string> warnings;
   try {
-    igms::BuildOptions options;
-    options.floating_base = floating;
-    model = igms::loadModel(model_path, options, &warnings);
+    if (!scene_path.empty()) {
+      const igms::ResolvedScene r = igms::resolveScene(igms::loadScene(scene_path));
+      model = *r.model;
+      warnings = r.warnings;
+    } else {
+      igms::BuildOptions options;
+      options.floating_base = floating;
+      model = igms::loadModel(model_path, options, &warnings);
+    }
   } catch (const std::exception& e) {
     std::cerr << "igms-dyn: " << e.what() << "\n";
     return 2;

@@ -4,7 +4,7 @@
 //   igms-replay play   LOG [--speed X | --fast] [--channel REGEX] [--remap FROM=TO]... [--start S] [--end S]
 //                          [--loop] [--step] [--lcm-url URL]
 //   igms-replay resim  LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]
-//   igms-replay export LOG DIR            (CSV files and the scene, for plots)
+//   igms-replay export LOG DIR            (CSV files and the scene, for plots; environment.csv for an environment)
 //
 // A damaged log gives a clear error with the byte offset; the events before
 // the damage are still used (exit code 3 then, unless the command failed).
@@ -27,6 +27,7 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/model/environment_model.h"
 #include "core/model_io/zlib_text.h"
 #include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
@@ -288,7 +289,28 @@ int exportCsv(const std::string& path, const std::string& dir) {
              << "\n";
     }
   }
-  std::fprintf(stderr, "igms-replay: exported %s to %s/\n", path.c_str(), dir.c_str());
+  // An environment (free bodies, several robots, contact): environment.csv from the re-simulation
+  // (bit-identical to the recorded run): every coordinate by name (each robot's q, each free body's
+  // pose) and the step's contact count and deepest overlap, which the states do not carry.
+  bool env_header = false;
+  std::ofstream env;
+  const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) {
+    if (!sim.hasContacts() && sim.model().parts.size() < 2) return;
+    if (!env_header) {
+      env.open(dir + "/environment.csv");
+      env.precision(17);
+      env << "t,step";
+      for (const std::string& n : igms::coordinateNames(sim.model())) env << "," << n;
+      env << ",contacts,max_penetration\n";
+      env_header = true;
+    }
+    env << sim.time() << "," << sim.steps();
+    for (int k = 0; k < sim.q().size(); ++k) env << "," << sim.q()[k];
+    env << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "\n";
+  });
+  if (env_header && !r.error.empty()) std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
+  std::fprintf(stderr, "igms-replay: exported %s to %s/%s\n", path.c_str(), dir.c_str(),
+               env_header ? " (with environment.csv)" : "");
   return c.damaged ? 3 : 0;
 }
 

@@ -23,7 +23,8 @@ void track(FieldDeviation& d, double recorded, double now, int64_t seq, bool& id
 
 }  // namespace
 
-ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir) {
+ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir,
+                       const std::function<void(const Simulation&)>& each_step) {
   ResimResult out;
   const RecordedSession session = readRecordedSession(events);
   const std::string versions =
@@ -92,6 +93,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
     if (missing) break;
     if (stalled) sim->noteStall();
     sim->step(hands);
+    if (each_step) each_step(*sim);
     if (st.nq != model.nq || st.nv != model.nv) {
       out.error = "the recorded states do not match the scene's model";
       break;

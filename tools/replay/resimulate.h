@@ -4,10 +4,12 @@
 // and the result compared with the recorded states.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "core/simulation/simulation.h"
 #include "tools/eventlog/event_log.h"
 
 namespace igms {
@@ -32,7 +34,9 @@ struct ResimResult {
 };
 
 // base_dir resolves the scene's relative model path (the server's working
-// directory at record time; by default the current one).
-ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir = ".");
+// directory at record time; by default the current one). each_step, when given, sees the simulation
+// after every re-simulated step (igms-replay export's contacts and bodies).
+ResimResult resimulate(const std::vector<log::Event>& events, const std::string& base_dir = ".",
+                       const std::function<void(const Simulation&)>& each_step = nullptr);
 
 }  // namespace igms

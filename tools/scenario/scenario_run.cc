@@ -3,27 +3,13 @@
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/client_interaction.h"
 #include "server/collision/collision_world.h"
+#include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "server/transport/input_gate.h"
 
 #include <memory>
 
 namespace igms {
-
-std::vector<std::string> coordinateColumns(const Model& model) {
-  std::vector<std::string> out;
-  int robots = 0;
-  for (const ModelPart& part : model.parts) robots += !part.free_body;
-  for (const ModelPart& part : model.parts) {
-    if (part.free_body) {
-      for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz"}) out.push_back(part.name + "." + c);
-      continue;
-    }
-    const std::string prefix = robots > 1 || !part.name.empty() ? part.name + "." : "";
-    for (int k = 0; k < part.nq(); ++k) out.push_back(prefix + "q" + std::to_string(k));
-  }
-  return out;
-}
 
 ScenarioResult runScenario(const Scene& scene, const std::string& script, double seconds,
                            const std::string& save_edited, double reach_tolerance) {
@@ -50,7 +36,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
   const std::string prefix = robot && !robot->name.empty() ? robot->name + "/" : "";
   const int last = model.parts.empty() ? -1 : model.parts.front().frame_end - 1;
   const int ee = robot && !robot->trajectory.frame.empty() ? model.frameIndex(prefix + robot->trajectory.frame) : last;
-  out.q_columns = coordinateColumns(model);
+  out.q_columns = coordinateNames(model);
   for (const ModelPart& part : model.parts)
     if (part.free_body) out.bodies.push_back(part.name);
   const double period = scene.dt;

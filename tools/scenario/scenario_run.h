@@ -25,9 +25,7 @@ struct ScenarioSample {
 
 struct ScenarioResult {
   std::vector<ScenarioSample> samples;   // every step
-  // A name per coordinate of q: q0... for a one-robot scene's robot, ROBOT.q0... with several
-  // robots, NAME.x NAME.y NAME.z NAME.qw NAME.qx NAME.qy NAME.qz for a free body's pose.
-  std::vector<std::string> q_columns;
+  std::vector<std::string> q_columns;   // a name per coordinate of q (coordinateNames)
   std::vector<std::string> bodies;       // the free bodies' names, in q order
   int max_contacts = 0;                  // contact points in a step, at most
   double max_penetration = 0.0;          // m, the deepest overlap of any step
@@ -45,9 +43,6 @@ struct ScenarioResult {
   std::vector<int> interaction_modes;
   bool diverged = false;
 };
-
-// The names of a model's coordinates as ScenarioResult::q_columns gives them.
-std::vector<std::string> coordinateColumns(const Model& model);
 
 // Runs `seconds` of the scene with the device script (scripted:FILE) at the
 // scene's rate. save_edited: write the executed trajectory there (optional).
