@@ -1,0 +1,159 @@
+// The scene as an environment: several robots and free bodies in one model
+// (their names, coordinates and controllers), the scene's errors for the new
+// keys, contact pairs' rules, and a step that allocates nothing with contact.
+#include <gtest/gtest.h>
+
+#include "core/contact/contact_model.h"
+#include "core/model/environment_model.h"
+#include "core/simulation/simulation.h"
+#include "tests/support/malloc_counter.h"
+#include "tests/support/test_models.h"
+
+namespace igms {
+namespace {
+
+Scene shipped(const char* name) { return loadScene(test::sourceDir() + "/scenes/" + name); }
+
+std::string error(const std::string& yaml) {
+  try {
+    resolveScene(parseScene(yaml, "bad.yaml", test::sourceDir() + "/scenes"));
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Environment, SeveralRobotsAndFreeBodiesAreTreesOfOneModel) {
+  const ResolvedScene r = resolveScene(shipped("workcell.yaml"));
+  const Model& m = *r.model;
+  ASSERT_EQ(m.parts.size(), 5u);
+  EXPECT_EQ(m.parts[0].name, "puma");
+  EXPECT_EQ(m.parts[1].name, "go1");
+  EXPECT_TRUE(m.parts[2].free_body);
+  EXPECT_GE(m.frameIndex("puma/ee_link"), 0) << "a robot's links named ROBOT/link";
+  EXPECT_GE(m.frameIndex("go1/trunk"), 0);
+  EXPECT_GE(m.frameIndex("ball"), 0);
+  EXPECT_EQ(m.partOfFrame(m.frameIndex("go1/trunk")), 1);
+  // No coordinate, dof or body crosses from one tree to another.
+  for (const ModelPart& p : m.parts)
+    for (int k = p.dof_begin; k < p.dof_end; ++k) EXPECT_TRUE(m.dof_parent[k] < 0 || m.dof_parent[k] >= p.dof_begin);
+  // The initial state: each robot's q where it belongs, each free body at its pose.
+  EXPECT_DOUBLE_EQ(r.q0[m.parts[0].q_begin], -0.9);
+  EXPECT_DOUBLE_EQ(r.q0[m.parts[1].q_begin], -0.8);
+  EXPECT_DOUBLE_EQ(r.q0[m.parts[4].q_begin + 2], 0.16);
+  const std::vector<std::string> names = coordinateNames(m);
+  EXPECT_EQ(names[0], "puma.q0");
+  EXPECT_EQ(names[static_cast<size_t>(m.parts[4].q_begin + 3)], "ball.qw");
+  // Each robot follows its own controller: the PUMA its line, the Go1 its posture.
+  Simulation sim(r);
+  for (int k = 0; k < 4500; ++k) ASSERT_TRUE(sim.step(nullptr));
+  const Vector3 ee = sim.linkPoses()[static_cast<size_t>(m.frameIndex("puma/ee_link"))].p;
+  EXPECT_LT((ee - Vector3(0.45, 0.47, 0.25)).norm(), 0.01) << "the PUMA reached its target";
+  EXPECT_NEAR(sim.q()[m.parts[1].q_begin + 2], -0.124, 0.01) << "the Go1 stands where it was put";
+}
+
+TEST(Environment, OneRobotAloneKeepsItsModelAsItWas) {
+  const ResolvedScene alone = resolveScene(shipped("puma_wall.yaml"));
+  ASSERT_EQ(alone.model->parts.size(), 1u);
+  EXPECT_EQ(alone.model->frames[0].name, "base_link") << "no prefix";
+  Simulation sim(alone);
+  EXPECT_FALSE(sim.hasContacts()) << "no pair can touch: no contact step";
+}
+
+TEST(Environment, ErrorsNameTheFileAndTheKey) {
+  EXPECT_NE(error("bodies: [{name: b, shape: cone, radius: 1}]\n").find("bad.yaml:1: bodies[0].shape: must be box, sphere, "
+                                                                       "cylinder, capsule or mesh"),
+            std::string::npos);
+  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1, material: steel}]\n")
+                .find("bodies[0].material: unknown material 'steel' (the scene's: default)"),
+            std::string::npos);
+  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1, mass: 1, density: 3}]\n")
+                .find("bodies[0].density: give mass or density, not both"),
+            std::string::npos);
+  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1}, {name: b, shape: sphere, radius: 0.1}]\n")
+                .find("another body is named 'b'"),
+            std::string::npos);
+  EXPECT_NE(error("robots: [{model: ../models/puma560.urdf}]\ninitial: {q: [0]}\n")
+                .find("initial: belongs to a robot"),
+            std::string::npos);
+  EXPECT_NE(error("materials: {m: {restitution: 2}}\nbodies: [{shape: sphere, radius: 0.1}]\n")
+                .find("materials.m.restitution: must be in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(error("ground: true\nbodies: [{shape: sphere, radius: 0.1}]\nsimulation: {integrator: rk4}\n")
+                .find("rk4 cannot take contact"),
+            std::string::npos);
+  EXPECT_NE(error("robot: {model: ../models/puma560.urdf}\nbodies: [{name: link1, shape: sphere, radius: 0.1}]\n")
+                .find("two links are named 'link1'"),
+            std::string::npos);
+  EXPECT_NE(error("bodies: [{name: m, shape: mesh, file: nowhere.stl}]\n").find("bodies[0].file"), std::string::npos);
+}
+
+TEST(Environment, FreeBodiesTakeTheirInertiaFromTheirShape) {
+  const ResolvedScene r = resolveScene(parseScene(
+      "bodies:\n  - {name: b, shape: box, size: [0.1, 0.2, 0.3], density: 1000}\n"
+      "  - {name: c, shape: capsule, radius: 0.05, length: 0.2, mass: 2}\n"
+      "  - {name: u, shape: mesh, file: ../models/meshes/u_channel.obj, density: 500}\n",
+      "t.yaml", test::sourceDir() + "/scenes"));
+  const Model& m = *r.model;
+  EXPECT_NEAR(m.inertia[0].m, 6.0, 1e-12);
+  EXPECT_NEAR(m.inertia[0].Io(0, 0), 6.0 / 12.0 * (0.04 + 0.09), 1e-12);
+  EXPECT_NEAR(m.inertia[1].m, 2.0, 1e-12);
+  // The channel: 0.009 m^3 of a non-convex solid, by the divergence theorem (assimp reads the
+  // vertices as floats: 1e-7 relative).
+  EXPECT_NEAR(m.inertia[2].m, 500.0 * 0.009, 1e-6 * 4.5);
+}
+
+TEST(Environment, ARobotsOwnLinksTouchOnlyWhenAskedAndNeverNextToEachOther) {
+  const ResolvedScene r = resolveScene(shipped("go1_stand.yaml"));
+  const ContactModel off(*r.model, r.part_material, {}, {Material{}}, ContactSettings{});
+  ContactSettings on;
+  on.self_collision = true;
+  const ContactModel self(*r.model, r.part_material, {}, {Material{}}, on);
+  const Model& m = *r.model;
+  int pairs_off = 0, pairs_on = 0, adjacent = 0;
+  const auto& g = off.geoms();
+  for (int i = 0; i < static_cast<int>(g.size()); ++i)
+    for (int j = i + 1; j < static_cast<int>(g.size()); ++j) {
+      pairs_off += off.canTouch(i, j);
+      pairs_on += self.canTouch(i, j);
+      const int a = g[static_cast<size_t>(i)].body, b = g[static_cast<size_t>(j)].body;
+      if (a >= 0 && b >= 0 && (m.parent[static_cast<size_t>(a)] == b || m.parent[static_cast<size_t>(b)] == a))
+        adjacent += self.canTouch(i, j);
+    }
+  EXPECT_EQ(pairs_off, 0);
+  EXPECT_GT(pairs_on, 0);
+  EXPECT_EQ(adjacent, 0);
+}
+
+TEST(Environment, TheStepAllocatesNothingWithContact) {
+  for (const char* name : {"go1_stand.yaml", "puma_table.yaml", "box_tower.yaml", "workcell.yaml"}) {
+    Simulation sim(shipped(name));
+    for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+    InteractionInput push;
+    push.mode = InteractionMode::Push;
+    push.tip_position = sim.linkPoses()[1].p;
+    push.client = 1;
+    const size_t n = test::allocationsDuring([&] {
+      for (int k = 0; k < 200; ++k) sim.step(nullptr);
+      for (int k = 0; k < 50; ++k) {
+        push.seq = k;
+        sim.step(&push);
+      }
+      for (int k = 0; k < 50; ++k) sim.step(nullptr);
+    });
+    EXPECT_EQ(n, 0u) << name;
+    EXPECT_GT(sim.contacts().n, 0) << name;
+  }
+}
+
+TEST(Environment, TheSameSceneGivesTheSameBits) {
+  Simulation a(shipped("puma_table.yaml")), b(shipped("puma_table.yaml"));
+  for (int k = 0; k < 3000; ++k) {
+    ASSERT_TRUE(a.step(nullptr));
+    ASSERT_TRUE(b.step(nullptr));
+  }
+  for (int k = 0; k < a.q().size(); ++k) ASSERT_EQ(a.q()[k], b.q()[k]);
+}
+
+}  // namespace
+}  // namespace igms
