@@ -1,6 +1,7 @@
 // igms-step-bench: time of one full server step (trajectory point, computed
 // torque, forward dynamics, integration; or the coupling), median and p99 over
-// 20000 steps, per scene and interaction; and the FCL collision check that
+// 20000 steps, per scene and interaction (the environment's scenes, contact
+// included, after 1 s of settling); and the FCL collision check that
 // runs beside the step on the publishing thread. Then one tip-link query on
 // each Panda collision mesh (the push's contact: distance, normal, point), at
 // random tips within 12 mm of the surface, against FCL's exact point-to-mesh
@@ -217,10 +218,36 @@ int main(int argc, char** argv) {
     report("PUMA + FCL obstacles: FK + collision check (publisher)", check_us);
     report("PUMA + FCL obstacles: step + check", total);
   }
+  // The floating robots as the earlier rows timed them: in empty space (no gravity, ground or contact; the
+  // scenes now stand on the ground, timed below).
+  auto inEmptySpace = [](Scene s) {
+    s.gravity = Vector3::Zero();
+    s.ground.enabled = false;
+    for (RobotSpec& r : s.robots) r.controller = ControllerKind::ComputedTorque;
+    return s;
+  };
   if (wanted("quadruped, floating base (18 dof), linearly_implicit")) {
-    Simulation sim(loadScene(dir + "quadruped_float.yaml"));
+    Simulation sim(inEmptySpace(loadScene(dir + "quadruped_float.yaml")));
     auto us = timeSteps(sim, nullptr, n);
     report("quadruped, floating base (18 dof), linearly_implicit", us);
+  }
+  // The environment: robots standing on the ground, free bodies at rest, contact in every step.
+  for (const auto& [file, label] : std::vector<std::pair<const char*, const char*>>{
+           {"go1_stand.yaml", "Go1 standing, 4 foot contacts (environment)"},
+           {"talos_stand.yaml", "Talos standing on box soles, 8 contacts (environment)"},
+           {"puma_table.yaml", "PUMA line past a table with 3 boxes (environment)"},
+           {"box_tower.yaml", "10-box tower, 40 contacts (environment)"},
+           {"sphere_pile.yaml", "216-sphere pile, nv 1296, 216 contacts (environment)"}}) {
+    if (!wanted(label)) continue;
+    try {
+      Simulation sim(loadScene(dir + file));
+      for (int k = 0; k < 1000; ++k) sim.step(nullptr);  // settled
+      const int steps = std::string(file) == "sphere_pile.yaml" || std::string(file) == "box_tower.yaml" ? n / 10 : n;
+      auto us = timeSteps(sim, nullptr, steps);
+      report(label, us);
+    } catch (const std::exception& e) {
+      std::printf("%-62s skipped: %s\n", label, e.what());
+    }
   }
   // Robots from example-robot-data (scripts/fetch_robots.sh), pushed on a collision mesh and pulled.
   struct RealRobot {
@@ -236,7 +263,7 @@ int main(int argc, char** argv) {
     if (!wanted(push_label) && !wanted(pull_label)) continue;
     Scene scene;
     try {
-      scene = loadScene(dir + r.scene);
+      scene = inEmptySpace(loadScene(dir + r.scene));
       Simulation probe(scene);
     } catch (const std::exception& e) {
       std::printf("%-62s skipped: %s\n", r.label, e.what());

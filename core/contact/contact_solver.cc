@@ -422,7 +422,7 @@ bool ContactSolver::polish(int ng) {
 // answer breaks a condition (a normal pulls, a free point crosses, a sticking friction leaves the cone,
 // a slipping one pushes along its slip), change that row's guess and solve again.
 bool ContactSolver::polishIsland(int n) {
-  constexpr int kRounds = 8;
+  constexpr int kRounds = 24;
   constexpr double kInside = 1.0 - 1e-9;  // strictly inside the cone: sticking
   const double tolerance = cm_.settings().tolerance;
   auto group = [&](int m) -> Group& { return groups_[static_cast<size_t>(members_[static_cast<size_t>(m)])]; };
@@ -536,20 +536,26 @@ bool ContactSolver::polishIsland(int n) {
         g.trial_u.noalias() += block_[static_cast<size_t>(g.nbr_first + q)] *
                                groups_[static_cast<size_t>(nbr_[static_cast<size_t>(g.nbr_first + q)])].trial;
     }
-    // Check every condition; change the guess where one breaks.
-    bool valid = true;
+    // Check every condition; change the guess of the one that breaks worst (one change a round:
+    // changing every broken one at once can cycle, a pull freed here re-crossing there), measured as
+    // a velocity: a pull by what its impulse would move its point, a crossing by its speed, a friction
+    // outside its cone by how far outside, one slipping along itself by its slip.
+    double worst = 0.0;
+    int worst_group = -1, worst_row = -1;
+    auto candidate = [&](double how_bad, int m, int row) {
+      if (how_bad > worst) {
+        worst = how_bad;
+        worst_group = m;
+        worst_row = row;
+      }
+    };
     for (int m = 0; m < n; ++m) {
       Group& g = group(m);
       const int P = g.points, F = frictionRows(g);
       double N = 0.0;
       for (int k = 0; k < P; ++k) {
-        if (g.active[k] && g.trial[k] < 0.0) {  // a pull: let go
-          g.active[k] = false;
-          valid = false;
-        } else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) {  // crossing: touch
-          g.active[k] = true;
-          valid = false;
-        }
+        if (g.active[k] && g.trial[k] < 0.0) candidate(-g.trial[k] * g.W(k, k), m, k);
+        else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
         N += std::max(g.trial[k], 0.0);
       }
       const Vector3 scale = scaleOf(g);
@@ -559,18 +565,27 @@ bool ContactSolver::polishIsland(int n) {
         w[f] = g.trial_u[P + f] * scale[f];
       }
       const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
-      if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {  // outside the cone: slip, along it
-        g.sliding = true;
-        for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
-        valid = false;
-      } else if (g.sliding && s.dot(w) > tolerance * (cap + 1e-300)) {  // pushing along the slip: stick
-        g.sliding = false;
-        valid = false;
-      }
+      if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15)
+        candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
+      else if (g.sliding && s.dot(w) > tolerance * s.norm())
+        candidate(s.dot(w) / s.norm(), m, P);
     }
-    if (valid) {
+    if (worst_group < 0) {
       for (int m = 0; m < n; ++m) group(m).lambda = group(m).trial;
       return true;
+    }
+    Group& g = group(worst_group);
+    if (worst_row < g.points) {
+      g.active[worst_row] = !g.active[worst_row];
+    } else if (!g.sliding) {  // slip, along the friction the trial found
+      const int P = g.points, F = frictionRows(g);
+      const Vector3 scale = scaleOf(g);
+      Vector3 s = Vector3::Zero();
+      for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
+      g.sliding = true;
+      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+    } else {
+      g.sliding = false;
     }
   }
   return false;
