@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -90,9 +91,10 @@ std::string join(const std::string& dir, const std::string& path) {
 }
 
 // A shape with its pose: obstacles and free bodies (in the world), robot.collision (in a link's frame).
-// Meshes (allow_mesh): file (as written: resolveScene finds it from the scene's folder, or a
-// package://) and scale; their fields come with resolveScene.
-CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string& where, bool allow_mesh = false) {
+// Meshes (allow_mesh): file (from the scene's folder, base_dir, unless absolute or a package://)
+// and scale; their fields come with resolveScene.
+CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string& where, bool allow_mesh = false,
+                         const std::string& base_dir = "") {
   CollisionShape c;
   const std::string shape = r.text(o, "shape", "");
   if (shape == "box") {
@@ -110,7 +112,9 @@ CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string
     c.kind = CollisionShape::Kind::Mesh;
     const std::string file = r.text(o, "file", "");
     if (file.empty()) r.fail(o, where + ".file", "missing (a mesh file: STL, OBJ, Collada)");
-    c.mesh_file = file;
+    c.mesh_file = file.rfind("package://", 0) == 0
+                      ? file
+                      : std::filesystem::absolute(join(base_dir, file)).lexically_normal().string();
     if (o["scale"]) c.mesh_scale = r.numbers(o["scale"], where + ".scale", 3);
     if ((c.mesh_scale.array() <= 0.0).any()) r.fail(o["scale"], where + ".scale", "must be positive");
   } else {
@@ -331,7 +335,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       if (body.name.empty() || body.name.find('/') != std::string::npos) r.fail(b, at + ".name", "must be a name without '/'");
       for (const FreeBodySpec& other : s.bodies)
         if (other.name == body.name) r.fail(b, at + ".name", "another body is named '" + body.name + "'");
-      body.shape = primitive(r, b, at, true);
+      body.shape = primitive(r, b, at, true, base_dir);
       body.pose = body.shape.placement;
       body.shape.placement = SE3::Identity();
       if (b["mass"] && b["density"]) r.fail(b["density"], at + ".density", "give mass or density, not both");
@@ -372,7 +376,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
                                     "material"});
       Obstacle ob;
       ob.name = r.text(o, "name", "obstacle" + std::to_string(s.obstacles.size()));
-      ob.shape = primitive(r, o, "obstacles[]", true);
+      ob.shape = primitive(r, o, "obstacles[]", true, base_dir);
       ob.solid = r.flag(o, "solid", false);
       ob.material = materialName(r, o, "obstacles[]", s);
       s.obstacles.push_back(ob);

@@ -10,11 +10,15 @@
 //   ball dropped with restitution 0, 0.5, 1: rebound height ratio e^2 within 1 %;
 //   ten stacked boxes and 216 spheres in columns: still for 10 s;
 //   Go1 standing: the feet carry m g to 1e-6, no drift, no sinking; Talos standing on its soles;
-//   the Panda's hand against a non-convex mesh channel: overlap within 1 mm.
+//   the Panda's hand against a non-convex mesh channel: overlap within 1 mm;
+//   a workcell (the PUMA's line past a table with boxes and a ball, a Go1 standing behind it):
+//     the arm knocks the boxes over and the ball off the table, the ball rolls on along the floor
+//     without slipping, the boxes rest on the table, the Go1 keeps standing, no overlap over 0.1 mm.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 #include "core/simulation/simulation.h"
 #include "tests/support/test_models.h"
@@ -265,6 +269,41 @@ TEST(ContactAnalytic, APandaLinkAgainstANonConvexMeshStaysOutOfIt) {
   std::printf("Panda against the U channel: in contact %d of 4000 steps, deepest overlap %.2e m\n", touching, overlap);
   EXPECT_GT(touching, 1000) << "the hand is held by the channel";
   EXPECT_LE(overlap, 1e-3);
+}
+
+TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
+  if (!std::ifstream(test::sourceDir() + "/third_party/example-robot-data/robots/go1_description/urdf/go1.urdf"))
+    GTEST_SKIP() << "example-robot-data not fetched";
+  Simulation sim(shipped("workcell.yaml"));
+  const double floor = -0.4, table_top = 0.12, half = 0.04;  // workcell.yaml: the ground, the table, the boxes
+  int go1_z = -1;
+  for (const ModelPart& part : sim.model().parts)
+    if (part.name == "go1") go1_z = part.q_begin + 2;
+  ASSERT_GE(go1_z, 0);
+  double overlap = 0.0, trunk_at_4 = 0.0;
+  for (int k = 1; k <= 8000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+    overlap = std::max(overlap, sim.contacts().maxPenetration());
+    if (k == 4000) trunk_at_4 = sim.q()[go1_z];
+  }
+  const BodyState ball = body(sim, "ball"), a = body(sim, "box_a"), b = body(sim, "box_b");
+  // How far a box turned from its initial upright pose (rad).
+  auto turned = [](const BodyState& s) { return Eigen::AngleAxisd(s.R).angle(); };
+  std::printf("workcell after 8 s: ball at z %.6f m, boxes at %.6f and %.6f m turned %.2f and %.2f rad, Go1 trunk "
+              "moved %.2e m in the last 4 s, deepest overlap %.2e m\n",
+              ball.p.z(), a.p.z(), b.p.z(), turned(a), turned(b), std::abs(sim.q()[go1_z] - trunk_at_4), overlap);
+  EXPECT_NEAR(ball.p.z(), floor + half, 1e-4) << "the ball was knocked off the table onto the floor";
+  EXPECT_NEAR(a.p.z(), table_top + half, 1e-4) << "box_a lies on the table";
+  EXPECT_NEAR(b.p.z(), table_top + half, 1e-4) << "box_b lies on the table";
+  EXPECT_GT(std::max(turned(a), turned(b)), 0.8) << "the arm knocked a box over";
+  for (const BodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
+  // Nothing resists rolling here, so the ball rolls on along the floor: without slipping.
+  const Vector3 slip = ball.v + ball.w.cross(Vector3(0, 0, -half));
+  std::printf("the ball rolls at %.3f m/s, its contact point slips at %.2e m/s\n", ball.v.norm(), slip.norm());
+  EXPECT_LT(slip.norm(), 1e-6);
+  EXPECT_GT(sim.q()[go1_z] - floor, 0.2) << "the Go1 stands";
+  EXPECT_LT(std::abs(sim.q()[go1_z] - trunk_at_4), 1e-4);
+  EXPECT_LE(overlap, 1e-4);
 }
 
 }  // namespace

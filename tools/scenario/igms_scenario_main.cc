@@ -1,6 +1,7 @@
 // igms-scenario: a scene and a device script, run in-process (lockstep, no
 // network): the outcome as JSON, for designing and checking experiments.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -72,6 +73,11 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv, "every step as CSV here");
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   try {
+    for (const std::string& out : {save, csv}) {  // out/x.csv when out/ does not exist yet
+      const std::filesystem::path folder = std::filesystem::path(out).parent_path();
+      std::error_code ignored;  // an unwritable folder shows as the write's own error
+      if (!out.empty() && !folder.empty()) std::filesystem::create_directories(folder, ignored);
+    }
     if (!script.empty()) script = script.substr(9);
     const igms::ScenarioResult r = igms::runScenario(igms::loadScene(scene_path), script, seconds, save);
     std::printf("%s\n", toJson(r).dump().c_str());
