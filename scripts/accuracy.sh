@@ -10,7 +10,10 @@
 #     perturbed starts at 1 ms;
 #  4. the committed sessions replayed on ODE; the stability table; the stiff
 #     and extreme cases; then the Markdown report and the work-precision plots
-#     in out/accuracy/.
+#     in out/accuracy/;
+#  5. the contact section: igms and ODE (igms-accuracy --contact) and MuJoCo
+#     (scripts/contact_peers.py --accuracy) on the contact cases with analytic
+#     answers -> out/accuracy/contact.md, contact_work_precision.png.
 #   scripts/accuracy.sh [--quick]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,5 +41,10 @@ build/tools/igms-accuracy --extreme $quick --csv $out/extreme.csv | tee $out/ext
 /usr/bin/python3 scripts/accuracy_report.py $out/accuracy.csv $out --peers $out/cases/mujoco.csv \
   --truths $out/truths.csv --ensemble $out/ensemble.csv --stability $out/stability.csv \
   --replays $out/ode_replays.jsonl --extreme $out/extreme.csv > /dev/null
-echo "accuracy: wrote $out/ (accuracy.md, work_precision.png/svg, the CSVs, cases/ with the truths)"
+mkdir -p $out/contact_cases
+build/tools/igms-accuracy --contact $quick --csv $out/contact.csv | tee $out/contact.txt || status=$?
+build/tools/igms-accuracy --contact --write-cases $out/contact_cases > /dev/null
+.venv-peers/bin/python scripts/contact_peers.py --accuracy $out/contact_cases --csv $out/contact_mujoco.csv $quick
+/usr/bin/python3 scripts/contact_accuracy_report.py $out/contact.csv $out/contact_mujoco.csv $out
+echo "accuracy: wrote $out/ (accuracy.md, work_precision.png/svg, contact.md, contact_work_precision.png, the CSVs, cases/ with the truths)"
 exit $status

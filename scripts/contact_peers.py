@@ -6,6 +6,9 @@ for the comparison of what each does (creep, sinking, stopping distance, bounce)
 Runs in .venv-peers (PyPI mujoco 4.0; scripts/peer_env.sh).
   contact_peers.py --scene scenes/go1_stand.yaml [--scene ...] --out DIR   writes DIR/NAME.xml
   contact_peers.py --scene ... --out DIR --measure [--json FILE]            also runs them and prints the rows
+  contact_peers.py --accuracy CASES --csv FILE [--quick]     MuJoCo on igms-accuracy --contact's cases
+      (igms-accuracy --contact --write-cases CASES): each case's error against its analytic answer and
+      mj_step's run time per simulated second (mujoco.rollout, median of 3), h = 0.25 .. 4 ms
 
 What is translated, and how (MuJoCo's own defaults otherwise: soft contact, solref
 (0.02, 1), pyramidal cone, Newton solver, a 1 ms step):
@@ -231,14 +234,89 @@ def measure(scene, model, seconds):
             "final_qpos_head": [float(x) for x in data.qpos[:7]]}
 
 
+G = 9.81
+
+
+def case_error(name, t, pos, vel):
+    """The error igms-accuracy --contact measures (tools/accuracy/contact_accuracy.cc), on MuJoCo's run."""
+    if name == "box_slide":
+        return abs(pos[-1, 0] - 1.0 / (2 * 0.5 * G))
+    if name == "box_slope":
+        k = int(np.searchsorted(t, 0.5 + 1e-9)) - 1
+        return float(np.linalg.norm(pos[-1] - pos[k]) / (t[-1] - t[k]))
+    if name == "sphere_roll":
+        a = 5.0 / 7.0 * G * math.sin(math.radians(15))
+        return abs(np.linalg.norm(vel[-1]) - a) / a
+    if name == "ball_bounce":
+        up = np.nonzero(vel[:, 2] > 0)[0]
+        if len(up) == 0:
+            return 1.0  # never rebounds: the whole e^2 missed
+        after = vel[up[0]:, 2]
+        down = np.nonzero(after < 0)[0]
+        end = up[0] + (down[0] + 1 if len(down) else len(after))
+        return abs(pos[up[0]:end, 2].max() - 0.05 - 0.25) / 0.25
+    raise SystemExit(f"contact_peers: no measure for case {name}")
+
+
+SECONDS = {"box_slide": 0.4, "box_slope": 3.0, "sphere_roll": 1.0, "ball_bounce": 1.6}
+
+
+def accuracy(cases_dir, csv_path, quick):
+    from mujoco import rollout
+    import time
+    steps = [0.5e-3, 1e-3, 2e-3] if quick else [0.25e-3, 0.5e-3, 1e-3, 2e-3, 4e-3]
+    rows = ["case,engine,h_ms,error,unit,wall_s_per_sim_s,failed"]
+    units = {"box_slide": "m", "box_slope": "m/s", "sphere_roll": "1", "ball_bounce": "1"}
+    for name in ["box_slide", "box_slope", "sphere_roll", "ball_bounce"]:
+        path = os.path.join(cases_dir, name + ".yaml")
+        if not os.path.exists(path):
+            raise SystemExit(f"contact_peers: {path} missing (igms-accuracy --contact --write-cases {cases_dir})")
+        scene, spec, model = build(path)
+        for h in steps:
+            model.opt.timestep = h
+            data = mujoco.MjData(model)
+            mujoco.mj_resetDataKeyframe(model, data, 0)
+            mujoco.mj_forward(model, data)
+            kind = mujoco.mjtState.mjSTATE_FULLPHYSICS
+            state = np.empty(mujoco.mj_stateSize(model, kind))
+            mujoco.mj_getState(model, data, state, kind)
+            n = int(round(SECONDS[name] / h))
+            walls = []
+            for _ in range(1 if quick else 3):
+                t0 = time.perf_counter()
+                out, _ = rollout.rollout(model, data, state[None, :], nstep=n)
+                walls.append(time.perf_counter() - t0)
+            traj = out[0]
+            t = traj[:, 0]
+            pos = traj[:, 1:4]
+            vel = traj[:, 1 + model.nq:1 + model.nq + 3]
+            failed = not np.all(np.isfinite(traj))
+            err = float("nan") if failed else case_error(name, t, pos, vel)
+            cost = sorted(walls)[len(walls) // 2] / SECONDS[name]
+            rows.append(f"{name},mujoco_euler,{h * 1e3:g},{err:.10g},{units[name]},{cost:.10g},{int(failed)}")
+            print(f"  {name:12s} mujoco_euler h={h * 1e3:6.3f} ms  error {err:<10.3g} {units[name]}  {cost:.3g} s per s")
+    with open(csv_path, "w") as f:
+        f.write("\n".join(rows) + "\n")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--scene", action="append", required=True)
-    p.add_argument("--out", required=True)
+    p.add_argument("--accuracy", metavar="CASES", help="MuJoCo on igms-accuracy --contact's cases in CASES")
+    p.add_argument("--csv", help="with --accuracy: the rows here")
+    p.add_argument("--quick", action="store_true")
+    p.add_argument("--scene", action="append")
+    p.add_argument("--out")
     p.add_argument("--measure", action="store_true")
     p.add_argument("--seconds", type=float, default=10.0)
     p.add_argument("--json")
     a = p.parse_args()
+    if a.accuracy:
+        if not a.csv:
+            p.error("--accuracy needs --csv")
+        accuracy(a.accuracy, a.csv, a.quick)
+        return
+    if not a.scene or not a.out:
+        p.error("--scene and --out are needed (or --accuracy)")
     os.makedirs(a.out, exist_ok=True)
     rows = {}
     for path in a.scene:

@@ -19,20 +19,11 @@ import subprocess
 import sys
 import tempfile
 
-build, source = sys.argv[1], sys.argv[2]
-accuracy = os.path.join(build, "tools", "igms-accuracy")
-python = os.path.join(source, ".venv-peers", "bin", "python")
-failures = []
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from peer_checks import PeerCheck  # noqa: E402
 
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
-
-
-if not os.path.exists(python):
-    sys.exit(f"{python} is missing: scripts/peer_env.sh installs it (scripts/setup.sh runs it)")
+suite = PeerCheck(sys.argv)
+build, source, accuracy, python, check = suite.build, suite.source, suite.accuracy, suite.python, suite.check
 cases = ["puma_swing", "tumble", "puma_pull_k8000", "puma_push_k2000"]
 with_mujoco = cases[:3]  # the push's contact is another model in MuJoCo
 with tempfile.TemporaryDirectory() as tmp:
@@ -86,6 +77,4 @@ for r in ensemble:
     lo, med, hi = (float(r[f"q_max_{k}"]) for k in ("min", "median", "max"))
     check(r["starts"] == "3" and lo <= med <= hi and hi > 0, f"ensemble {r['case']} {r['method']}: "
           f"{med:.3g} [{lo:.3g}, {hi:.3g}]")
-if failures:
-    sys.exit(f"{len(failures)} checks failed")
-print("independent truth: all checks passed")
+suite.finish("independent truth")

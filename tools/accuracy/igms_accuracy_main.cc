@@ -4,6 +4,8 @@
 //   igms-accuracy --write-cases DIR [--quick] [--duration S]   the cases for scripts/accuracy_peers.py
 //   igms-accuracy --extreme [--quick] [--csv FILE]    the stiff and extreme cases' table
 //   igms-accuracy --stiffness [--csv FILE]            the stability table alone (step matrices)
+//   igms-accuracy --contact [--quick] [--csv FILE]    contact cases with analytic answers, igms and ODE
+//   igms-accuracy --contact --write-cases DIR         those cases' scenes for scripts/contact_peers.py
 // For each case: igms's own ground truth is RK4 at h = 1/64 ms, checked against
 // RK4 at 1/128 ms (the step-halving difference is printed). With --reference,
 // the truth is the independent one in DIR (DOP853 on Pinocchio's ABA, written
@@ -21,6 +23,7 @@
 
 #include "core/cli/command_line.h"
 #include "tools/accuracy/accuracy.h"
+#include "tools/accuracy/contact_accuracy.h"
 #include "tools/accuracy/ensemble.h"
 #include "tools/accuracy/extreme_cases.h"
 #include "tools/accuracy/independent_reference.h"
@@ -33,7 +36,7 @@ namespace {
 struct Options {
   std::string which = "all", csv, reference, truth_csv, write_cases, ensemble_csv;
   int ensemble = 0;
-  bool quick = false, extreme = false, stiffness = false;
+  bool quick = false, extreme = false, stiffness = false, contact = false;
   double duration = 0.0;
   int repeats = 3;
 };
@@ -168,6 +171,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", o.repeats, "timing runs per row (median), for runs under 2 s")->check(CLI::Range(1, 100));
   app.add_option("--csv", o.csv, "also write the rows here");
   app.add_flag("--extreme", o.extreme, "the stiff and extreme cases' table (exit 1 when a row fails)");
+  app.add_flag("--contact", o.contact, "the contact cases (analytic answers; igms and ODE, 0.25 .. 4 ms; exit 1 "
+               "when igms misses a goal at 1 ms); with --write-cases, their scenes");
   app.add_flag("--stiffness", o.stiffness, "the stability table alone (each scheme's step matrix on a spring and damper)");
   app.add_option("--reference", o.reference,
                  "measure against the independent truth in DIR (<case>.truth.json, scripts/accuracy_peers.py)")
@@ -181,6 +186,7 @@ int main(int argc, char** argv) {
                  "engines, and exit")->check(CLI::ExistingDirectory);
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   if (o.stiffness) return stiffnessTable(o);
+  if (o.contact) return contactAccuracy({o.quick, o.repeats, o.csv, o.write_cases});
   if (o.extreme) return extremeTable(o);
   std::vector<std::string> names;
   if (o.which == "free" || o.which == "all") names = caseNames();

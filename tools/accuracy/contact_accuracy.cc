@@ -1,0 +1,211 @@
+#include "tools/accuracy/contact_accuracy.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+
+#include "core/simulation/simulation.h"
+#include "tools/ode_ref/ode_contact_scene.h"
+
+namespace igms::accuracy {
+namespace {
+
+constexpr double kG = 9.81;
+const double kTheta20 = 20.0 * M_PI / 180.0, kTheta15 = 15.0 * M_PI / 180.0;
+
+// One body's world position and velocity, whichever engine moves it.
+struct Sample {
+  Vector3 p, v;
+};
+
+// An engine stepping one case's scene: igms's Simulation or ODE's dWorldStep.
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  virtual bool step() = 0;
+  virtual Sample body() const = 0;
+};
+
+class IgmsEngine : public Engine {
+ public:
+  explicit IgmsEngine(const Scene& scene) : sim_(scene) {}
+  bool step() override { return sim_.step(nullptr); }
+  Sample body() const override {
+    const ModelPart& part = sim_.model().parts.front();
+    const VectorX& q = sim_.q();
+    const int iq = part.q_begin;
+    const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
+    return {q.segment<3>(iq), R * sim_.v().segment<3>(part.dof_begin)};
+  }
+
+ private:
+  Simulation sim_;
+};
+
+class OdeEngine : public Engine {
+ public:
+  explicit OdeEngine(const Scene& scene) : ode_(resolveScene(scene)), h_(scene.dt) {}
+  bool step() override {
+    ode_.step(h_);
+    return std::isfinite(ode_.pose(0).p.x());
+  }
+  Sample body() const override { return {ode_.pose(0).p, ode_.velocity(0)}; }
+
+ private:
+  OdeContactScene ode_;
+  double h_;
+};
+
+// A case's measurement over a run: fed every step, then asked for the error.
+struct Measurement {
+  std::function<void(double t, const Sample&)> observe;
+  std::function<double()> error;
+};
+
+Measurement measurementFor(const std::string& name) {
+  auto state = std::make_shared<std::array<double, 4>>();  // per-case scratch
+  std::array<double, 4>& s = *state;
+  s = {0.0, 0.0, 0.0, 0.0};
+  if (name == "box_slide") {
+    // x(t) = v0 t - mu g t^2 / 2 until v0 / (mu g), then v0^2 / (2 mu g): the stop's error.
+    return {[state](double, const Sample& b) { (*state)[0] = b.p.x(); },
+            [state] { return std::abs((*state)[0] - 1.0 / (2.0 * 0.5 * kG)); }};
+  }
+  if (name == "box_slope") {
+    // Creep: the distance moved from t = 0.5 s to the end, per second; the truth is 0.
+    return {[state](double t, const Sample& b) {
+              std::array<double, 4>& x = *state;
+              if (t <= 0.5 + 1e-9) {
+                x = {b.p.x(), b.p.y(), b.p.z(), 0.0};
+              } else {
+                x[3] = (b.p - Vector3(x[0], x[1], x[2])).norm() / (t - 0.5);
+              }
+            },
+            [state] { return (*state)[3]; }};
+  }
+  if (name == "sphere_roll") {
+    // From rest, rolling without slip: v(1 s) = (5/7) g sin(15 deg); relative error.
+    return {[state](double, const Sample& b) { (*state)[0] = b.v.norm(); },
+            [state] {
+              const double a = 5.0 / 7.0 * kG * std::sin(kTheta15);
+              return std::abs((*state)[0] - a) / a;
+            }};
+  }
+  // ball_bounce: dropped from 1 m (its lowest point), e = 0.5: the first rebound's apex against e^2 m.
+  return {[state](double, const Sample& b) {
+            std::array<double, 4>& x = *state;  // [bounced, apex, falling again]
+            if (x[2] > 0.0) return;
+            if (x[0] == 0.0 && b.v.z() > 0.0) x[0] = 1.0;
+            if (x[0] > 0.0) {
+              x[1] = std::max(x[1], b.p.z() - 0.05);
+              if (b.v.z() < 0.0) x[2] = 1.0;
+            }
+          },
+          [state] { return std::abs((*state)[1] - 0.25) / 0.25; }};
+}
+
+struct RunResult {
+  double error = NAN;
+  double wall = 0.0;  // s, the steps alone
+  bool failed = false;
+};
+
+RunResult runOnce(const ContactCase& c, bool ode, double h) {
+  Scene scene = parseScene(c.yaml, c.name + ".yaml", ".");
+  scene.dt = h;
+  scene.rate_hz = 1.0 / h;
+  std::unique_ptr<Engine> engine;
+  if (ode) engine = std::make_unique<OdeEngine>(scene);
+  else engine = std::make_unique<IgmsEngine>(scene);
+  Measurement m = measurementFor(c.name);
+  const int steps = static_cast<int>(std::lround(c.seconds / h));
+  RunResult r;
+  double wall = 0.0;
+  for (int k = 1; k <= steps; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool ok = engine->step();
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!ok) {
+      r.failed = true;
+      break;
+    }
+    m.observe(k * h, engine->body());
+  }
+  r.error = r.failed ? NAN : m.error();
+  r.wall = wall;
+  return r;
+}
+
+}  // namespace
+
+std::vector<ContactCase> contactCases() {
+  char slope[640], roll[640];
+  std::snprintf(slope, sizeof slope,
+                "name: box_slope\nground: {height: 0, rpy: [0, %.17g, 0], material: rough}\n"
+                "materials: {rough: {friction: 1.0}}\n"
+                "bodies: [{name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 1.0, material: rough, "
+                "xyz: [%.17g, 0, %.17g], rpy: [0, %.17g, 0]}]\n",
+                kTheta20, 0.1 * std::sin(kTheta20), 0.1 * std::cos(kTheta20), kTheta20);
+  std::snprintf(roll, sizeof roll,
+                "name: sphere_roll\nground: {height: 0, rpy: [0, %.17g, 0], material: m}\n"
+                "materials: {m: {friction: 1.0}}\n"
+                "bodies: [{name: ball, shape: sphere, radius: 0.05, mass: 1.0, material: m, xyz: [%.17g, 0, %.17g]}]\n",
+                kTheta15, 0.05 * std::sin(kTheta15), 0.05 * std::cos(kTheta15));
+  return {
+      {"box_slide",
+       "name: box_slide\nground: {height: 0, material: wood}\nmaterials: {wood: {friction: 0.5}}\n"
+       "bodies: [{name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 1.0, xyz: [0, 0, 0.1], v: [1, 0, 0], "
+       "material: wood}]\n",
+       "a box launched at 1 m/s, mu 0.5: |stop - 101.937 mm|", "m", 0.4, 0.5e-3 + 1e-6},
+      {"box_slope", slope, "a box on 20 deg, mu 1: creep after 0.5 s (truth 0)", "m/s", 3.0, 1e-6},
+      {"sphere_roll", roll, "a sphere rolling down 15 deg: |v(1 s) - (5/7) g sin 15 deg| relative", "1", 1.0, 5.5e-4},
+      {"ball_bounce",
+       "name: ball_bounce\nground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, restitution: 0.5}}\n"
+       "bodies: [{name: ball, shape: sphere, radius: 0.05, mass: 0.2, xyz: [0, 0, 1.05], material: m}]\n",
+       "a ball dropped 1 m, e = 0.5: |apex - e^2 m| relative", "1", 1.6, 0.01},
+  };
+}
+
+int contactAccuracy(const ContactAccuracyOptions& o) {
+  const std::vector<ContactCase> cases = contactCases();
+  if (!o.write_cases.empty()) {
+    std::filesystem::create_directories(o.write_cases);
+    for (const ContactCase& c : cases) std::ofstream(o.write_cases + "/" + c.name + ".yaml") << c.yaml;
+    std::printf("wrote %zu contact cases into %s\n", cases.size(), o.write_cases.c_str());
+    return 0;
+  }
+  std::vector<double> steps;
+  for (double h = o.quick ? 0.5e-3 : 0.25e-3; h <= (o.quick ? 2e-3 : 4e-3) * 1.0001; h *= 2) steps.push_back(h);
+  std::ofstream out(o.csv.empty() ? "/dev/null" : o.csv);
+  out.precision(10);
+  out << "case,engine,h_ms,error,unit,wall_s_per_sim_s,failed\n";
+  int status = 0;
+  for (const ContactCase& c : cases) {
+    std::printf("%s: %s [%s], %.2f s\n", c.name.c_str(), c.measure.c_str(), c.unit.c_str(), c.seconds);
+    for (const bool ode : {false, true}) {
+      const char* engine = ode ? "ode_dworldstep" : "igms";
+      for (double h : steps) {
+        const RunResult r = runOnce(c, ode, h);
+        std::vector<double> walls{r.wall};
+        while (static_cast<int>(walls.size()) < (o.quick ? 1 : o.repeats)) walls.push_back(runOnce(c, ode, h).wall);
+        std::sort(walls.begin(), walls.end());
+        const double cost = walls[walls.size() / 2] / c.seconds;
+        out << c.name << "," << engine << "," << h * 1e3 << "," << r.error << "," << c.unit << "," << cost << ","
+            << r.failed << "\n";
+        const bool goal = !ode && std::abs(h - 1e-3) < 1e-12;
+        const bool missed = goal && !(r.error <= c.goal_at_1ms);
+        std::printf("  %-15s h=%6.3f ms  error %-10.3g %s  %.3g s per s%s\n", engine, h * 1e3, r.error, c.unit.c_str(),
+                    cost, goal ? (missed ? "  MISSES its goal" : "  (meets its goal)") : "");
+        if (missed) status = 1;
+      }
+    }
+  }
+  return status;
+}
+
+}  // namespace igms::accuracy
