@@ -65,7 +65,13 @@ Simulation::Simulation(ResolvedScene resolved)
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
   edited_t_.assign(kRecordCapacity, 0.0);
-  edited_q_ = MatrixX::Zero(kRecordCapacity, m.nq);
+  // Only the first robot's coordinates: a scene of free bodies would otherwise hold 10 minutes of
+  // every body's pose (a 216-sphere pile: 725 MB). A one-robot scene records all of q, as before.
+  if (!controllers_.empty()) {
+    record_begin_ = controllers_.front()->part().q_begin;
+    record_nq_ = controllers_.front()->part().nq();
+  }
+  edited_q_ = MatrixX::Zero(kRecordCapacity, record_nq_);
   qdd_cmd_ = VectorX::Zero(m.nv);
   pd_kp_ = pd_kd_ = pd_q_ = pd_v_ = VectorX::Zero(m.nv);
   reset();
@@ -331,7 +337,7 @@ void Simulation::record(bool force) {
   if (!force && t_ + 1e-12 < next_record_t_) return;
   if (edited_count_ >= kRecordCapacity) return;
   edited_t_[static_cast<size_t>(edited_count_)] = t_;
-  edited_q_.row(edited_count_) = q_.transpose();
+  edited_q_.row(edited_count_) = q_.segment(record_begin_, record_nq_).transpose();
   ++edited_count_;
   next_record_t_ = t_ + kRecordPeriod;
 }
@@ -352,6 +358,7 @@ void Simulation::saveEditedTrajectory(const std::string& path) const {
     times.push_back(last_t);
     rows.push_back(edited_q_.row(k).transpose());
   }
+  if (record_nq_ == 0) throw std::runtime_error(path + ": the scene has no robot whose motion could be saved");
   if (times.size() < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
@@ -360,7 +367,6 @@ void Simulation::saveEditedTrajectory(const std::string& path) const {
     const std::string prefix = resolved_.robots.front().name.empty() ? "" : resolved_.robots.front().name + "/";
     std::vector<std::string> names;
     for (int i = part.body_begin; i < part.body_end; ++i) names.push_back(model_->joint_name[i].substr(prefix.size()));
-    for (VectorX& r : rows) r = r.segment(part.q_begin, part.nq()).eval();
     out << trajectoryFileText(scene_.source, names, times, rows);
   } else {
     out << trajectoryFileText(scene_.source, model_->joint_name, times, rows);

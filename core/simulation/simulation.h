@@ -170,7 +170,8 @@ class Simulation {
   }
   static constexpr int64_t kStallGapUs = 20000;
 
-  // The executed motion, sampled every 10 ms (up to 10 minutes).
+  // The executed motion of the first robot (its q; none without a robot), sampled every 10 ms
+  // (up to 10 minutes).
   int editedCount() const { return edited_count_; }
   double editedTime(int k) const { return edited_t_[static_cast<size_t>(k)]; }
   auto editedPoint(int k) const { return edited_q_.row(k).transpose(); }
@@ -229,7 +230,8 @@ class Simulation {
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
   std::vector<double> edited_t_;
-  MatrixX edited_q_;            // capacity x nq, preallocated
+  MatrixX edited_q_;            // capacity x the first robot's nq, preallocated
+  int record_begin_ = 0, record_nq_ = 0;
   int edited_count_ = 0;
   double next_record_t_ = 0.0;
   VectorX q_good_, v_good_;     // last finite state

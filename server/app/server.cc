@@ -164,8 +164,8 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
 void publishEditedTrajectory(lcm::LCM& bus, const Simulation& sim) {
   trajectory_t traj;
   traj.utime = wallMicros();
-  traj.nq = sim.model().nq;
-  for (int j = 0; j < sim.model().nq; ++j) traj.joint_names.push_back("q" + std::to_string(j));
+  traj.nq = sim.editedCount() > 0 ? static_cast<int32_t>(sim.editedPoint(0).size()) : 0;  // the first robot's q
+  for (int j = 0; j < traj.nq; ++j) traj.joint_names.push_back("q" + std::to_string(j));
   for (int k = 0; k < sim.editedCount(); ++k) {
     traj.t.push_back(sim.editedTime(k));
     const VectorX row = sim.editedPoint(k);
