@@ -89,4 +89,10 @@ std::vector<std::string> coordinateNames(const Model& model) {
   return out;
 }
 
+FreeBodyState freeBodyState(const ModelPart& part, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  const int iq = part.q_begin, iv = part.dof_begin;
+  const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
+  return FreeBodyState{q.segment<3>(iq), R, R * v.segment<3>(iv), R * v.segment<3>(iv + 3)};
+}
+
 }  // namespace igms

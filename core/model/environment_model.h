@@ -27,4 +27,13 @@ void appendTree(Model& env, const Model& tree, const std::string& part_name, con
 // NAME.qx NAME.qy NAME.qz for a free body's pose.
 std::vector<std::string> coordinateNames(const Model& model);
 
+// A free body's state in the world: the pose of its frame (its centre of mass) and its linear and
+// angular velocity, from its floating joint's q (position, quaternion w first) and v (body frame).
+struct FreeBodyState {
+  Vector3 p;
+  Matrix3 R;
+  Vector3 v, w;
+};
+FreeBodyState freeBodyState(const ModelPart& part, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
 }  // namespace igms

@@ -245,7 +245,7 @@ void Simulation::computeControl(const HandInputs& inputs) {
   // hold's gravity and Coriolis compensation (the dynamics add the hold damping: the users' forces
   // move the robot); otherwise the computed torque of qdd_cmd_. A PD robot's torque is the dynamics'
   // (CoupledInputs::pd), a passive robot's none.
-  bool inverse_dynamics = false;
+  inverse_dynamics_ = false;
   hold_rate_ = 0.0;
   hold_.clear();
   uncommanded_.clear();
@@ -256,11 +256,11 @@ void Simulation::computeControl(const HandInputs& inputs) {
       hold_rate_ = c->holdDamping();
       hold_.push_back(DofRange{part.dof_begin, part.dof_end, c->holdDamping()});
     }
-    if (c->inverseDynamics()) inverse_dynamics = true;
+    if (c->inverseDynamics()) inverse_dynamics_ = true;
     else uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
     c->command(t_, q_, v_, interacting_, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
   }
-  if (!inverse_dynamics) tau_.setZero();  // no trajectory: passive robots (and PD robots' torque is the dynamics')
+  if (!inverse_dynamics_) tau_.setZero();  // no trajectory: passive robots (and PD robots' torque is the dynamics')
 }
 
 bool Simulation::step(const InteractionInput* input) {
@@ -272,9 +272,7 @@ bool Simulation::step(const InteractionInput* input) {
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
   computeControl(hands);
-  bool inverse_dynamics = false;
-  for (const auto& c : controllers_) inverse_dynamics = inverse_dynamics || c->inverseDynamics();
-  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics,
+  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
                        interacting_ ? nullptr : &qdd_cmd_};
   if (environment_) {
     inputs.hold = &hold_;
@@ -349,6 +347,7 @@ const std::vector<SE3>& Simulation::linkPoses() {
 }
 
 void Simulation::saveEditedTrajectory(const std::string& path) const {
+  if (record_nq_ == 0) throw std::runtime_error(path + ": the scene has no robot whose motion could be saved");
   std::vector<double> times;
   std::vector<VectorX> rows;
   double last_t = -1.0;
@@ -358,7 +357,6 @@ void Simulation::saveEditedTrajectory(const std::string& path) const {
     times.push_back(last_t);
     rows.push_back(edited_q_.row(k).transpose());
   }
-  if (record_nq_ == 0) throw std::runtime_error(path + ": the scene has no robot whose motion could be saved");
   if (times.size() < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");

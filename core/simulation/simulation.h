@@ -210,6 +210,7 @@ class Simulation {
   std::array<HandTrack, kMaxHands> hands_;
   HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;
+  bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (computeControl)
   std::vector<std::unique_ptr<RobotController>> controllers_;  // one per robot, in scene order
   bool environment_ = false;            // several parts: per-robot holds and commands (DofRange lists)
   std::vector<DofRange> hold_, uncommanded_;

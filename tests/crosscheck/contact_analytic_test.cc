@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/test_models.h"
 
@@ -33,21 +34,9 @@ Scene sceneText(const std::string& yaml) { return parseScene(yaml, "test.yaml", 
 Scene shipped(const char* name) { return loadScene(test::sourceDir() + "/scenes/" + name); }
 
 // A free body's world position and velocity (its frame origin) and angular velocity.
-struct BodyState {
-  Vector3 p, v, w;
-  Matrix3 R;
-};
-
-BodyState body(const Simulation& sim, const std::string& name) {
-  const Model& m = sim.model();
-  for (const ModelPart& part : m.parts)
-    if (part.name == name) {
-      const VectorX& q = sim.q();
-      const VectorX& v = sim.v();
-      const int iq = part.q_begin, iv = part.dof_begin;
-      const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
-      return BodyState{q.segment<3>(iq), R * v.segment<3>(iv), R * v.segment<3>(iv + 3), R};
-    }
+FreeBodyState body(const Simulation& sim, const std::string& name) {
+  for (const ModelPart& part : sim.model().parts)
+    if (part.name == name) return freeBodyState(part, sim.q(), sim.v());
   ADD_FAILURE() << "no body " << name;
   return {};
 }
@@ -71,7 +60,7 @@ Vector3 forceOnWorld(const Simulation& sim) {
 TEST(ContactAnalytic, ARestingBoxIsCarriedAndStill) {
   Simulation sim(sceneText("ground: true\nbodies: [{name: box, shape: box, size: [0.3, 0.2, 0.1], mass: 2.5, xyz: [0.1, 0.2, 0.05]}]\n"));
   run(sim, 2.0);
-  const BodyState b = body(sim, "box");
+  const FreeBodyState b = body(sim, "box");
   EXPECT_EQ(sim.contacts().n, 4) << "a flat contact: its four corners";
   EXPECT_NEAR(forceOnWorld(sim).z(), -2.5 * g, 1e-9 * 2.5 * g) << "the normal forces carry m g";
   EXPECT_LT(b.v.norm(), 1e-9);
@@ -111,7 +100,7 @@ TEST(ContactAnalytic, ABoxOutsideTheFrictionConeSlidesAtGSinMinusMuCos) {
 TEST(ContactAnalytic, ASlidingBoxStopsWhereCoulombSays) {
   Simulation sim(shipped("box_slide.yaml"));
   run(sim, 0.4);
-  const BodyState b = body(sim, "box");
+  const FreeBodyState b = body(sim, "box");
   const double h = sim.scene().dt, v0 = 1.0, a = 0.5 * g;
   // The step's own solution: v_k = v0 - k a h while positive, x = h sum v_k (velocity, then position).
   double x = 0.0;
@@ -150,7 +139,7 @@ double rollingAcceleration(const char* shape, double theta, double* omega_error)
                 theta);
   Simulation sim(sceneText(yaml));
   run(sim, 1.0);
-  const BodyState b = body(sim, "b");
+  const FreeBodyState b = body(sim, "b");
   const double v = b.v.norm(), w = b.w.norm();
   *omega_error = std::abs(w * r - v) / v;
   return v / 1.0;  // from rest: a = v / t
@@ -185,7 +174,7 @@ TEST(ContactAnalytic, ADroppedBallReboundsToEToTheSquare) {
     bool bounced = false;
     for (int k = 0; k < 2500; ++k) {
       ASSERT_TRUE(sim.step(nullptr));
-      const BodyState b = body(sim, "ball");
+      const FreeBodyState b = body(sim, "ball");
       const double height = b.p.z() - 0.05;
       if (!bounced && b.v.z() > 0.0) bounced = true;
       if (!bounced) lowest = std::min(lowest, height);
@@ -286,9 +275,9 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
     overlap = std::max(overlap, sim.contacts().maxPenetration());
     if (k == 4000) trunk_at_4 = sim.q()[go1_z];
   }
-  const BodyState ball = body(sim, "ball"), a = body(sim, "box_a"), b = body(sim, "box_b");
+  const FreeBodyState ball = body(sim, "ball"), a = body(sim, "box_a"), b = body(sim, "box_b");
   // How far a box turned from its initial upright pose (rad).
-  auto turned = [](const BodyState& s) { return Eigen::AngleAxisd(s.R).angle(); };
+  auto turned = [](const FreeBodyState& s) { return Eigen::AngleAxisd(s.R).angle(); };
   std::printf("workcell after 8 s: ball at z %.6f m, boxes at %.6f and %.6f m turned %.2f and %.2f rad, Go1 trunk "
               "moved %.2e m in the last 4 s, deepest overlap %.2e m\n",
               ball.p.z(), a.p.z(), b.p.z(), turned(a), turned(b), std::abs(sim.q()[go1_z] - trunk_at_4), overlap);
@@ -296,7 +285,7 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
   EXPECT_NEAR(a.p.z(), table_top + half, 1e-4) << "box_a lies on the table";
   EXPECT_NEAR(b.p.z(), table_top + half, 1e-4) << "box_b lies on the table";
   EXPECT_GT(std::max(turned(a), turned(b)), 0.8) << "the arm knocked a box over";
-  for (const BodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
+  for (const FreeBodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
   // Nothing resists rolling here, so the ball rolls on along the floor: without slipping.
   const Vector3 slip = ball.v + ball.w.cross(Vector3(0, 0, -half));
   std::printf("the ball rolls at %.3f m/s, its contact point slips at %.2e m/s\n", ball.v.norm(), slip.norm());

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/test_models.h"
 #include "tools/ode_ref/ode_contact_scene.h"
@@ -29,24 +30,28 @@ Vector3 igmsPosition(const Simulation& sim, int k) {
   return sim.q().segment<3>(sim.model().parts[static_cast<size_t>(k)].q_begin);
 }
 Vector3 igmsVelocity(const Simulation& sim, int k) {
-  const ModelPart& part = sim.model().parts[static_cast<size_t>(k)];
-  const VectorX& q = sim.q();
-  const int iq = part.q_begin;
-  const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
-  return R * sim.v().segment<3>(part.dof_begin);
+  return freeBodyState(sim.model().parts[static_cast<size_t>(k)], sim.q(), sim.v()).v;
+}
+
+// Both engines, step by step, for n steps of the scene's dt; `after` sees each step's end.
+template <typename After>
+void stepBoth(Simulation& sim, OdeContactScene& ode, int n, After&& after) {
+  for (int k = 0; k < n; ++k) {
+    ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+    ode.step(sim.scene().dt);
+    after(k);
+  }
+}
+void stepBoth(Simulation& sim, OdeContactScene& ode, int n) {
+  stepBoth(sim, ode, n, [](int) {});
 }
 
 TEST(OdeContact, TheSlidingBoxFollowsOdesPathAndStopsWhereItDoes) {
   const Scene scene = shipped("box_slide.yaml");
   Simulation sim(scene);
   OdeContactScene ode(resolveScene(scene));
-  const double h = scene.dt;
   double worst = 0.0;
-  for (int k = 0; k < 400; ++k) {
-    ASSERT_TRUE(sim.step(nullptr));
-    ode.step(h);
-    worst = std::max(worst, (igmsPosition(sim, 0) - ode.pose(0).p).norm());
-  }
+  stepBoth(sim, ode, 400, [&](int) { worst = std::max(worst, (igmsPosition(sim, 0) - ode.pose(0).p).norm()); });
   const double travel = igmsPosition(sim, 0).x();
   std::printf("sliding box: igms stops at %.6f mm, ODE at %.6f mm; x(t) apart by %.2e m at most (%.2e of the travel)\n",
               1e3 * travel, 1e3 * ode.pose(0).p.x(), worst, worst / travel);
@@ -58,10 +63,7 @@ TEST(OdeContact, ADiagonalSlideGoesAsFarInBoth) {
   scene.bodies[0].velocity = Vector3(std::sqrt(0.5), std::sqrt(0.5), 0.0);
   Simulation sim(scene);
   OdeContactScene ode(resolveScene(scene));
-  for (int k = 0; k < 400; ++k) {
-    ASSERT_TRUE(sim.step(nullptr));
-    ode.step(scene.dt);
-  }
+  stepBoth(sim, ode, 400);
   const Vector3 a = igmsPosition(sim, 0), b = ode.pose(0).p;
   std::printf("diagonal slide: igms %.6f mm along (%.2e across), ODE %.6f mm along (%.2e across)\n",
               1e3 * std::hypot(a.x(), a.y()), std::abs(a.x() - a.y()), 1e3 * std::hypot(b.x(), b.y()),
@@ -73,15 +75,9 @@ TEST(OdeContact, TheBoxOnTheSlopeSticksInBoth) {
   const Scene scene = shipped("box_slope.yaml");
   Simulation sim(scene);
   OdeContactScene ode(resolveScene(scene));
-  for (int k = 0; k < 500; ++k) {
-    ASSERT_TRUE(sim.step(nullptr));
-    ode.step(scene.dt);
-  }
+  stepBoth(sim, ode, 500);
   const Vector3 a0 = igmsPosition(sim, 0), b0 = ode.pose(0).p;
-  for (int k = 0; k < 5000; ++k) {
-    ASSERT_TRUE(sim.step(nullptr));
-    ode.step(scene.dt);
-  }
+  stepBoth(sim, ode, 5000);
   const double creep_igms = (igmsPosition(sim, 0) - a0).norm() / 5.0, creep_ode = (ode.pose(0).p - b0).norm() / 5.0;
   std::printf("box on 20 deg, mu 1, over 5 s: igms creeps %.2e m/s, ODE %.2e m/s\n", creep_igms, creep_ode);
   EXPECT_LT(creep_igms, 1e-6);
@@ -96,14 +92,12 @@ TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
     Simulation sim(scene);
     OdeContactScene ode(resolveScene(scene));
     double apex_igms = 0.0, apex_ode = 0.0;
-    for (int k = 0; k < 1200; ++k) {
-      ASSERT_TRUE(sim.step(nullptr));
-      ode.step(scene.dt);
+    stepBoth(sim, ode, 1200, [&](int k) {
       if (k > 500) {
         apex_igms = std::max(apex_igms, igmsPosition(sim, 0).z() - 0.05);
         apex_ode = std::max(apex_ode, ode.pose(0).p.z() - 0.05);
       }
-    }
+    });
     std::printf("ball from 1 m, e = 0.5: igms rebounds to %.5f m, ODE to %.5f m (e^2 = 0.25)\n", apex_igms, apex_ode);
     EXPECT_NEAR(apex_igms, 0.25, 0.0025);
     EXPECT_NEAR(apex_ode, apex_igms, 0.03 * apex_igms) << "ODE bounces from where it found the overlap";
@@ -118,10 +112,7 @@ TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
     const Scene scene = sceneText(yaml);
     Simulation sim(scene);
     OdeContactScene ode(resolveScene(scene));
-    for (int k = 0; k < 1000; ++k) {
-      ASSERT_TRUE(sim.step(nullptr));
-      ode.step(scene.dt);
-    }
+    stepBoth(sim, ode, 1000);
     const double expected = 5.0 / 7.0 * g * std::sin(theta);
     const double a_igms = igmsVelocity(sim, 0).norm(), a_ode = ode.velocity(0).norm();
     std::printf("sphere rolling down 15 deg, after 1 s: igms %.6f m/s, ODE %.6f m/s (analytic %.6f)\n", a_igms, a_ode,

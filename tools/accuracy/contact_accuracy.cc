@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <memory>
 
+#include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "tools/ode_ref/ode_contact_scene.h"
 
@@ -36,11 +36,8 @@ class IgmsEngine : public Engine {
   explicit IgmsEngine(const Scene& scene) : sim_(scene) {}
   bool step() override { return sim_.step(nullptr); }
   Sample body() const override {
-    const ModelPart& part = sim_.model().parts.front();
-    const VectorX& q = sim_.q();
-    const int iq = part.q_begin;
-    const Matrix3 R = Eigen::Quaterniond(q[iq + 3], q[iq + 4], q[iq + 5], q[iq + 6]).normalized().toRotationMatrix();
-    return {q.segment<3>(iq), R * sim_.v().segment<3>(part.dof_begin)};
+    const FreeBodyState b = freeBodyState(sim_.model().parts.front(), sim_.q(), sim_.v());
+    return {b.p, b.v};
   }
 
  private:
@@ -61,53 +58,43 @@ class OdeEngine : public Engine {
   double h_;
 };
 
-// A case's measurement over a run: fed every step, then asked for the error.
-struct Measurement {
-  std::function<void(double t, const Sample&)> observe;
-  std::function<double()> error;
-};
+// A case's measurement over a run: fed every step's end, then asked for the error.
+class Measurement {
+ public:
+  explicit Measurement(const std::string& name) : name_(name) {}
 
-Measurement measurementFor(const std::string& name) {
-  auto state = std::make_shared<std::array<double, 4>>();  // per-case scratch
-  std::array<double, 4>& s = *state;
-  s = {0.0, 0.0, 0.0, 0.0};
-  if (name == "box_slide") {
-    // x(t) = v0 t - mu g t^2 / 2 until v0 / (mu g), then v0^2 / (2 mu g): the stop's error.
-    return {[state](double, const Sample& b) { (*state)[0] = b.p.x(); },
-            [state] { return std::abs((*state)[0] - 1.0 / (2.0 * 0.5 * kG)); }};
+  void observe(double t, const Sample& b) {
+    if (name_ == "box_slide" || name_ == "sphere_roll") {
+      last_ = b;
+    } else if (name_ == "box_slope") {
+      if (t <= 0.5 + 1e-9) from_ = b.p;
+      else creep_ = (b.p - from_).norm() / (t - 0.5);
+    } else if (!fell_again_) {  // ball_bounce: the first rebound's apex
+      bounced_ = bounced_ || b.v.z() > 0.0;
+      if (bounced_) {
+        apex_ = std::max(apex_, b.p.z() - 0.05);
+        fell_again_ = b.v.z() < 0.0;
+      }
+    }
   }
-  if (name == "box_slope") {
-    // Creep: the distance moved from t = 0.5 s to the end, per second; the truth is 0.
-    return {[state](double t, const Sample& b) {
-              std::array<double, 4>& x = *state;
-              if (t <= 0.5 + 1e-9) {
-                x = {b.p.x(), b.p.y(), b.p.z(), 0.0};
-              } else {
-                x[3] = (b.p - Vector3(x[0], x[1], x[2])).norm() / (t - 0.5);
-              }
-            },
-            [state] { return (*state)[3]; }};
+
+  double error() const {
+    if (name_ == "box_slide") return std::abs(last_.p.x() - 1.0 / (2.0 * 0.5 * kG));  // v0^2 / (2 mu g)
+    if (name_ == "box_slope") return creep_;                                         // the truth is 0
+    if (name_ == "sphere_roll") {
+      const double a = 5.0 / 7.0 * kG * std::sin(kTheta15);  // from rest, rolling without slip, at 1 s
+      return std::abs(last_.v.norm() - a) / a;
+    }
+    return std::abs(apex_ - 0.25) / 0.25;  // dropped from 1 m, e = 0.5: e^2 m
   }
-  if (name == "sphere_roll") {
-    // From rest, rolling without slip: v(1 s) = (5/7) g sin(15 deg); relative error.
-    return {[state](double, const Sample& b) { (*state)[0] = b.v.norm(); },
-            [state] {
-              const double a = 5.0 / 7.0 * kG * std::sin(kTheta15);
-              return std::abs((*state)[0] - a) / a;
-            }};
-  }
-  // ball_bounce: dropped from 1 m (its lowest point), e = 0.5: the first rebound's apex against e^2 m.
-  return {[state](double, const Sample& b) {
-            std::array<double, 4>& x = *state;  // [bounced, apex, falling again]
-            if (x[2] > 0.0) return;
-            if (x[0] == 0.0 && b.v.z() > 0.0) x[0] = 1.0;
-            if (x[0] > 0.0) {
-              x[1] = std::max(x[1], b.p.z() - 0.05);
-              if (b.v.z() < 0.0) x[2] = 1.0;
-            }
-          },
-          [state] { return std::abs((*state)[1] - 0.25) / 0.25; }};
-}
+
+ private:
+  std::string name_;
+  Sample last_{Vector3::Zero(), Vector3::Zero()};
+  Vector3 from_ = Vector3::Zero();
+  double creep_ = 0.0, apex_ = 0.0;
+  bool bounced_ = false, fell_again_ = false;
+};
 
 struct RunResult {
   double error = NAN;
@@ -122,7 +109,7 @@ RunResult runOnce(const ContactCase& c, bool ode, double h) {
   std::unique_ptr<Engine> engine;
   if (ode) engine = std::make_unique<OdeEngine>(scene);
   else engine = std::make_unique<IgmsEngine>(scene);
-  Measurement m = measurementFor(c.name);
+  Measurement m(c.name);
   const int steps = static_cast<int>(std::lround(c.seconds / h));
   RunResult r;
   double wall = 0.0;
@@ -175,7 +162,16 @@ int contactAccuracy(const ContactAccuracyOptions& o) {
   const std::vector<ContactCase> cases = contactCases();
   if (!o.write_cases.empty()) {
     std::filesystem::create_directories(o.write_cases);
-    for (const ContactCase& c : cases) std::ofstream(o.write_cases + "/" + c.name + ".yaml") << c.yaml;
+    // The scenes, and what the peer needs to run and measure them alike: each case's duration and unit.
+    std::ofstream index(o.write_cases + "/cases.json");
+    index << "{";
+    for (size_t k = 0; k < cases.size(); ++k) {
+      const ContactCase& c = cases[k];
+      std::ofstream(o.write_cases + "/" + c.name + ".yaml") << c.yaml;
+      index << (k ? ",\n " : "\n ") << "\"" << c.name << "\": {\"seconds\": " << c.seconds << ", \"unit\": \"" << c.unit
+            << "\"}";
+    }
+    index << "\n}\n";
     std::printf("wrote %zu contact cases into %s\n", cases.size(), o.write_cases.c_str());
     return 0;
   }
