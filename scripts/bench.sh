@@ -11,22 +11,24 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
 mkdir -p out/bench
-if [[ ${1:-} == --peers ]]; then
-  shift
+# build-peers/: igms built against the peers' libraries from .venv-peers (Pinocchio, MuJoCo).
+configure_peers() {
+  local site
   site=$(scripts/peer_env.sh)
   cmake -S . -B build-peers -G Ninja -DCMAKE_BUILD_TYPE=Release -DIGMS_PEER_BENCH=ON -DIGMS_PEER_SITE="$site" \
     -DIGMS_BUILD_TESTS=OFF -DIGMS_WITH_WEB=OFF >out/bench/peers.configure.log 2>&1 ||
     { echo "bench.sh: configuring the peer benchmark failed (out/bench/peers.configure.log)" >&2; exit 1; }
+}
+if [[ ${1:-} == --peers ]]; then
+  shift
+  configure_peers
   cmake --build build-peers --target igms-peer-bench >/dev/null
   /usr/bin/python3 bench/peer_table.py build build-peers --json out/bench/peers.json "$@" | tee out/bench/peers.txt
   exit "${PIPESTATUS[0]}"
 fi
 if [[ ${1:-} == --contact ]]; then
   shift
-  site=$(scripts/peer_env.sh)
-  cmake -S . -B build-peers -G Ninja -DCMAKE_BUILD_TYPE=Release -DIGMS_PEER_BENCH=ON -DIGMS_PEER_SITE="$site" \
-    -DIGMS_BUILD_TESTS=OFF -DIGMS_WITH_WEB=OFF >out/bench/peers.configure.log 2>&1 ||
-    { echo "bench.sh: configuring the peer benchmark failed (out/bench/peers.configure.log)" >&2; exit 1; }
+  configure_peers
   cmake --build build-peers --target igms-contact-bench igms-dyn >/dev/null
   scenes=(go1_stand talos_stand box_slope box_slide box_tower sphere_pile)
   args=()

@@ -258,19 +258,17 @@ def case_error(name, t, pos, vel):
     raise SystemExit(f"contact_peers: no measure for case {name}")
 
 
-SECONDS = {"box_slide": 0.4, "box_slope": 3.0, "sphere_roll": 1.0, "ball_bounce": 1.6}
-
-
 def accuracy(cases_dir, csv_path, quick):
     from mujoco import rollout
     import time
     steps = [0.5e-3, 1e-3, 2e-3] if quick else [0.25e-3, 0.5e-3, 1e-3, 2e-3, 4e-3]
     rows = ["case,engine,h_ms,error,unit,wall_s_per_sim_s,failed"]
-    units = {"box_slide": "m", "box_slope": "m/s", "sphere_roll": "1", "ball_bounce": "1"}
-    for name in ["box_slide", "box_slope", "sphere_roll", "ball_bounce"]:
+    index = os.path.join(cases_dir, "cases.json")
+    if not os.path.exists(index):
+        raise SystemExit(f"contact_peers: {index} missing (igms-accuracy --contact --write-cases {cases_dir})")
+    for name, case in json.load(open(index)).items():
         path = os.path.join(cases_dir, name + ".yaml")
-        if not os.path.exists(path):
-            raise SystemExit(f"contact_peers: {path} missing (igms-accuracy --contact --write-cases {cases_dir})")
+        seconds, unit = case["seconds"], case["unit"]
         scene, spec, model = build(path)
         for h in steps:
             model.opt.timestep = h
@@ -280,7 +278,7 @@ def accuracy(cases_dir, csv_path, quick):
             kind = mujoco.mjtState.mjSTATE_FULLPHYSICS
             state = np.empty(mujoco.mj_stateSize(model, kind))
             mujoco.mj_getState(model, data, state, kind)
-            n = int(round(SECONDS[name] / h))
+            n = int(round(seconds / h))
             walls = []
             for _ in range(1 if quick else 3):
                 t0 = time.perf_counter()
@@ -292,9 +290,9 @@ def accuracy(cases_dir, csv_path, quick):
             vel = traj[:, 1 + model.nq:1 + model.nq + 3]
             failed = not np.all(np.isfinite(traj))
             err = float("nan") if failed else case_error(name, t, pos, vel)
-            cost = sorted(walls)[len(walls) // 2] / SECONDS[name]
-            rows.append(f"{name},mujoco_euler,{h * 1e3:g},{err:.10g},{units[name]},{cost:.10g},{int(failed)}")
-            print(f"  {name:12s} mujoco_euler h={h * 1e3:6.3f} ms  error {err:<10.3g} {units[name]}  {cost:.3g} s per s")
+            cost = sorted(walls)[len(walls) // 2] / seconds
+            rows.append(f"{name},mujoco_euler,{h * 1e3:g},{err:.10g},{unit},{cost:.10g},{int(failed)}")
+            print(f"  {name:12s} mujoco_euler h={h * 1e3:6.3f} ms  error {err:<10.3g} {unit}  {cost:.3g} s per s")
     with open(csv_path, "w") as f:
         f.write("\n".join(rows) + "\n")
 

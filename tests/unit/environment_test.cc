@@ -80,31 +80,24 @@ TEST(Environment, OneRobotAloneKeepsItsModelAsItWas) {
 }
 
 TEST(Environment, ErrorsNameTheFileAndTheKey) {
-  EXPECT_NE(error("bodies: [{name: b, shape: cone, radius: 1}]\n").find("bad.yaml:1: bodies[0].shape: must be box, sphere, "
-                                                                       "cylinder, capsule or mesh"),
-            std::string::npos);
-  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1, material: steel}]\n")
-                .find("bodies[0].material: unknown material 'steel' (the scene's: default)"),
-            std::string::npos);
-  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1, mass: 1, density: 3}]\n")
-                .find("bodies[0].density: give mass or density, not both"),
-            std::string::npos);
-  EXPECT_NE(error("bodies: [{name: b, shape: sphere, radius: 0.1}, {name: b, shape: sphere, radius: 0.1}]\n")
-                .find("another body is named 'b'"),
-            std::string::npos);
-  EXPECT_NE(error("robots: [{model: ../models/puma560.urdf}]\ninitial: {q: [0]}\n")
-                .find("initial: belongs to a robot"),
-            std::string::npos);
-  EXPECT_NE(error("materials: {m: {restitution: 2}}\nbodies: [{shape: sphere, radius: 0.1}]\n")
-                .find("materials.m.restitution: must be in [0, 1]"),
-            std::string::npos);
-  EXPECT_NE(error("ground: true\nbodies: [{shape: sphere, radius: 0.1}]\nsimulation: {integrator: rk4}\n")
-                .find("rk4 cannot take contact"),
-            std::string::npos);
-  EXPECT_NE(error("robot: {model: ../models/puma560.urdf}\nbodies: [{name: link1, shape: sphere, radius: 0.1}]\n")
-                .find("two links are named 'link1'"),
-            std::string::npos);
-  EXPECT_NE(error("bodies: [{name: m, shape: mesh, file: nowhere.stl}]\n").find("bodies[0].file"), std::string::npos);
+  const std::pair<const char*, const char*> cases[] = {  // a scene, what its error says
+      {"bodies: [{name: b, shape: cone, radius: 1}]\n",
+       "bad.yaml:1: bodies[0].shape: must be box, sphere, cylinder, capsule or mesh"},
+      {"bodies: [{name: b, shape: sphere, radius: 0.1, material: steel}]\n",
+       "bodies[0].material: unknown material 'steel' (the scene's: default)"},
+      {"bodies: [{name: b, shape: sphere, radius: 0.1, mass: 1, density: 3}]\n",
+       "bodies[0].density: give mass or density, not both"},
+      {"bodies: [{name: b, shape: sphere, radius: 0.1}, {name: b, shape: sphere, radius: 0.1}]\n",
+       "another body is named 'b'"},
+      {"robots: [{model: ../models/puma560.urdf}]\ninitial: {q: [0]}\n", "initial: belongs to a robot"},
+      {"materials: {m: {restitution: 2}}\nbodies: [{shape: sphere, radius: 0.1}]\n",
+       "materials.m.restitution: must be in [0, 1]"},
+      {"ground: true\nbodies: [{shape: sphere, radius: 0.1}]\nsimulation: {integrator: rk4}\n", "rk4 cannot take contact"},
+      {"robot: {model: ../models/puma560.urdf}\nbodies: [{name: link1, shape: sphere, radius: 0.1}]\n",
+       "two links are named 'link1'"},
+      {"bodies: [{name: m, shape: mesh, file: nowhere.stl}]\n", "bodies[0].file"},
+  };
+  for (const auto& [yaml, expected] : cases) EXPECT_NE(error(yaml).find(expected), std::string::npos) << yaml;
 }
 
 TEST(Environment, FreeBodiesTakeTheirInertiaFromTheirShape) {
