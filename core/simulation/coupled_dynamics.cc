@@ -146,14 +146,7 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
     if (!resolve) biasAtPlacements(model_, data_, v, fext);
     crbaUpperAtPoses(model_, data_);
     out.F = tau_total_ - data_.bias;
-    if (in.hold)
-      for (const DofRange& r : *in.hold) {
-        const int n = r.end - r.begin;
-        out.F.segment(r.begin, n).noalias() -=
-            r.rate * (data_.H.block(r.begin, r.begin, n, n).selfadjointView<Eigen::Upper>() * v.segment(r.begin, n));
-      }
-    else if (in.hold_rate > 0.0)
-      out.F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
+    subtractHoldDamping(in, v, out.F, nullptr);
     return;
   }
   const bool solved = resolve  ? forwardDynamicsAtBias(model_, data_, tau_total_, placed)
@@ -165,18 +158,22 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   }
   out.F = tau_total_ - data_.bias;  // = H qdd
   out.qdd = data_.qdd;
+  subtractHoldDamping(in, v, out.F, &out.qdd);
+}
+
+void CoupledDynamics::subtractHoldDamping(const CoupledInputs& in, const VectorX& v, VectorX& F, VectorX* qdd) const {
   if (in.hold) {
     // -c H v on each held robot's block: H is block-diagonal across trees, so H^-1 of it is -c v there.
     for (const DofRange& r : *in.hold) {
       const int n = r.end - r.begin;
-      out.F.segment(r.begin, n).noalias() -=
+      F.segment(r.begin, n).noalias() -=
           r.rate * (data_.H.block(r.begin, r.begin, n, n).selfadjointView<Eigen::Upper>() * v.segment(r.begin, n));
-      out.qdd.segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
+      if (qdd) qdd->segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
     }
   } else if (in.hold_rate > 0.0) {
     // -c H v: H^-1 of it is exactly -c v.
-    out.F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
-    out.qdd -= in.hold_rate * v;
+    F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
+    if (qdd) *qdd -= in.hold_rate * v;
   }
 }
 

@@ -159,6 +159,8 @@ class CoupledDynamics {
 
  private:
   void couple(const Coupling& c, const VectorX& v, CouplingForce& out);
+  // The hold's damping -c H v on F (per held robot's block, or on all), and -c v on qdd when given.
+  void subtractHoldDamping(const CoupledInputs& in, const VectorX& v, VectorX& F, VectorX* qdd) const;
 
   const Model& model_;
   const Scene& scene_;
