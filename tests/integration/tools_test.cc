@@ -157,9 +157,13 @@ TEST(Replay, PlaysAtRecordedTimingAtSpeedOneAndTwo) {
     std::vector<double> sorted = offset;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double median = sorted[sorted.size() / 2];
-    double worst = 0.0;
-    for (double o : offset) worst = std::max(worst, std::abs(o - median));
-    EXPECT_LE(worst, 0.01) << "each event within 10 ms of its time, speed " << speed;
+    // The arrival time includes the receiving thread's wake-up: on a loaded 2-core machine one of 21 came
+    // 14 ms late while the player was on time. A player that drifts or misreads the speed moves many.
+    std::vector<double> error;
+    for (double o : offset) error.push_back(std::abs(o - median));
+    std::sort(error.begin(), error.end());
+    EXPECT_LE(error[error.size() - 2], 0.01) << "all but one event within 10 ms of its time, speed " << speed;
+    EXPECT_LE(error.back(), 0.03) << "every event within 30 ms of its time, speed " << speed;
   }
   std::remove(log.c_str());
 }
