@@ -240,4 +240,18 @@ ResolvedScene resolveScene(const Scene& scene) {
   return r;
 }
 
+std::vector<FixedGeom> solidGeometry(const ResolvedScene& r) {
+  const Scene& s = r.scene;
+  std::vector<FixedGeom> fixed;
+  for (const Obstacle& o : s.obstacles)
+    if (o.solid) fixed.push_back(FixedGeom{o.name, o.shape, r.materialIndex(o.material)});
+  if (s.ground.enabled) {
+    CollisionShape plane;
+    plane.kind = CollisionShape::Kind::Plane;
+    plane.placement = s.ground.pose;
+    fixed.push_back(FixedGeom{"ground", plane, r.materialIndex(s.ground.material)});
+  }
+  return fixed;
+}
+
 }  // namespace igms

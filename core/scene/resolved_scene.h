@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/contact/contact_model.h"
 #include "core/scene/scene.h"
 
 namespace igms {
@@ -36,6 +37,10 @@ struct ResolvedScene {
 
   int materialIndex(const std::string& name) const;  // "" : default
 };
+
+// The scene's solid geometry that the model does not hold: the solid obstacles (in scene order), then
+// the ground. What the contact model and the hand's proxy both touch.
+std::vector<FixedGeom> solidGeometry(const ResolvedScene& r);
 
 // Loads the models and checks the scene against them. Throws SceneError naming
 // the scene file and the key, or ModelError naming the model file.

@@ -7,7 +7,8 @@
 #include "core/dynamics/forward_dynamics.h"
 #include "core/dynamics/joint_damping.h"
 #include "core/dynamics/rnea.h"
-#include "core/geometry/deepest_contact.h"
+#include "core/geometry/point_query.h"
+#include "core/geometry/tip_contact.h"
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
 #include "core/kinematics/forward_kinematics.h"
@@ -51,22 +52,43 @@ CoupledEvaluation CoupledDynamics::makeEvaluation() const {
 }
 
 // The user's force at the state in data_ (body kinematics done): push, the
-// deepest contact of the tip with a link (eq. 3); pull, the spring-damper to
+// tip against the shape its proxy rests on (eq. 3); pull, the spring-damper to
 // the attachment point (eq. 4), and with an orientation its rotational half.
+namespace {
+// The tip's nearest surface and the proxy's face the same way within 60 degrees: the same side.
+constexpr double kSameSide = 0.5;
+}  // namespace
+
 void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce& out) {
   out = CouplingForce{};
   if (c.mode == InteractionMode::Push) {
-    const LinkContact touch = deepestContact(
-        model_, [&](int f) { return framePose(model_, data_, f); }, c.tip, c.tip_radius, c.contact_frame);
-    if (touch.frame < 0) return;
-    const PushForce p = pushForce(touch.contact, c.push_k_p, scene_.push.max_force);
+    if (!c.push_shape || c.contact_frame < 0) return;
+    // Eq. (3), c = k_p d, with the tip's own depth and normal (the nearest surface to its centre)
+    // while that is the side the proxy rests on; once the tip's centre has passed the middle of the
+    // shape, the nearest surface is the far one, and d is the depth behind the proxy's surface
+    // instead: it grows however deep the device goes and never flips. (Querying the tip keeps the
+    // law smooth within a step; the proxy moves only between steps.)
+    const SE3 oMf = framePose(model_, data_, c.contact_frame);
+    const SE3 X = oMf * c.push_placement;
+    TipContact touch = tipContact(*c.push_shape, X, c.tip, c.tip_radius);
+    if (touch.depth > c.tip_radius) {  // the tip's centre is inside
+      const PointQuery at_proxy = pointQuery(*c.push_shape, X, c.proxy);
+      if (at_proxy.valid && at_proxy.normal.dot(touch.normal) < kSameSide) {
+        touch.depth = c.tip_radius - (c.tip - at_proxy.surface).dot(at_proxy.normal);
+        touch.touching = touch.depth > 0.0;
+        touch.normal = at_proxy.normal;
+        touch.point = at_proxy.surface;
+      }
+    }
+    if (!touch.touching) return;
+    const PushForce p = pushForce(touch, c.push_k_p, scene_.push.max_force);
     out.coupled = true;
-    out.frame = touch.frame;
-    out.point_local = framePose(model_, data_, touch.frame).inverse().act(p.point);
+    out.frame = c.contact_frame;
+    out.point_local = oMf.inverse().act(p.point);
     out.point = p.point;
     out.on_robot = p.on_link;
     out.clamped = p.clamped;
-    if (!p.clamped) out.K = c.push_k_p * touch.contact.normal * touch.contact.normal.transpose();
+    if (!p.clamped) out.K = c.push_k_p * touch.normal * touch.normal.transpose();
   } else if (c.mode == InteractionMode::Pull && c.attach_frame >= 0) {
     const Vector3 x = framePose(model_, data_, c.attach_frame).act(c.attach_point);
     pointJacobian(model_, data_, c.attach_frame, c.attach_point, J_);

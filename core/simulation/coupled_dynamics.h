@@ -34,7 +34,13 @@ struct Coupling {
   InteractionMode mode = InteractionMode::None;
   Vector3 tip = Vector3::Zero(), tip_velocity = Vector3::Zero();
   double tip_radius = 0.01;
-  int contact_frame = -1;  // push: only this link (-1: any link with collision shapes)
+  // Push: the shape the hand's proxy rests on (proxy.h), on frame contact_frame at push_placement;
+  // null: the proxy touches nothing that moves, no push. The depth is the tip's behind that
+  // shape's surface under the proxy, at each evaluated state.
+  int contact_frame = -1;
+  const CollisionShape* push_shape = nullptr;
+  SE3 push_placement;
+  Vector3 proxy = Vector3::Zero();
   int attach_frame = -1;   // pull: the attachment link
   Vector3 attach_point = Vector3::Zero();  // pull: in the attachment link's frame
   // The 6-D pull: the device's orientation (world <- tip) and angular velocity,

@@ -89,6 +89,8 @@ void RobotController::command(double t, const VectorX& q, const VectorX& v, bool
         qdd_cmd.segment(d0, nv) = qdd_ref_ + kp_.cwiseProduct(q_ref_ - q.segment(q0, nq)) +
                                   kd_.cwiseProduct(qd_ref_ - v.segment(d0, nv));
       }
+    } else if (holding && !(d0 == 0 && nv == model_.nv)) {
+      qdd_cmd.segment(d0, nv).setZero();  // in an environment the hold is inverse dynamics of zero: b(q, v)
     }
     return;
   }

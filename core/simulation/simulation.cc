@@ -30,15 +30,7 @@ std::unique_ptr<ContactModel> contactModelOf(const ResolvedScene& r) {
   if (!s.hasContact()) return nullptr;
   std::vector<Material> materials;
   for (const std::string& name : r.material_names) materials.push_back(s.materials.at(name));
-  std::vector<FixedGeom> fixed;
-  for (const Obstacle& o : s.obstacles)
-    if (o.solid) fixed.push_back(FixedGeom{o.name, o.shape, r.materialIndex(o.material)});
-  if (s.ground.enabled) {
-    CollisionShape plane;
-    plane.kind = CollisionShape::Kind::Plane;
-    plane.placement = s.ground.pose;
-    fixed.push_back(FixedGeom{"ground", plane, r.materialIndex(s.ground.material)});
-  }
+  const std::vector<FixedGeom> fixed = solidGeometry(r);
   auto cm = std::make_unique<ContactModel>(*r.model, r.part_material, fixed, materials, s.contact);
   if (cm->empty()) return nullptr;
   return cm;
@@ -61,6 +53,12 @@ Simulation::Simulation(ResolvedScene resolved)
     any_pd_ = any_pd_ || controllers_.back()->kind() == ControllerKind::Pd;
   }
   environment_ = m.parts.size() > 1;
+  robot_held_.assign(controllers_.size(), 0);
+  if (scene_.push.enabled) {
+    touch_world_ = std::make_unique<TouchWorld>(m);
+    for (const FixedGeom& g : solidGeometry(resolved_)) touch_world_->addFixed(g.name, g.shape);
+    for (HandTrack& h : hands_) h.proxy = Proxy(*touch_world_);
+  }
   hold_.reserve(controllers_.size());
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
@@ -100,7 +98,11 @@ void Simulation::reset() {
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
   setRotationalGains(scene_.pull.k_rot, scene_.pull.b_rot);
   ncouplings_ = 0;
-  hands_.fill(HandTrack{});
+  for (HandTrack& h : hands_) {
+    h.restart(-1);
+    h.proxy.release();
+  }
+  std::fill(robot_held_.begin(), robot_held_.end(), 0);
   stall_noted_ = false;
   resume_ramps_ = 0;
   record(true);
@@ -115,7 +117,9 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   t_ = t;
   interacting_ = interacting;
   diverged_ = false;
-  hands_.fill(HandTrack{});  // a re-based copy does not know the server's gaps
+  // A re-based copy does not know the server's gaps; its hands' proxies go on from where they were.
+  for (HandTrack& h : hands_) h.restart(h.client);
+  std::fill(robot_held_.begin(), robot_held_.end(), interacting ? 1 : 0);
   stall_noted_ = false;
   dynamics_->resetContacts();
 }
@@ -159,8 +163,8 @@ Simulation::HandTrack& Simulation::track(int32_t client) {
     }
     if (h.steps_without_input > pick->steps_without_input) pick = &h;
   }
-  *pick = HandTrack{};
-  pick->client = client;
+  pick->restart(client);
+  pick->proxy.release();
   pick->stall = stall_noted_;
   return *pick;
 }
@@ -186,6 +190,7 @@ void Simulation::computeControl(const HandInputs& inputs) {
     ++h.steps_without_input;
   }
   bool any_user = false;
+  bool placed = false;  // link_poses_ at the start state
   ncouplings_ = 0;
   for (int k = 0; k < n; ++k) {
     const InteractionInput& in = inputs.in[static_cast<size_t>(order_[static_cast<size_t>(k)])];
@@ -208,6 +213,14 @@ void Simulation::computeControl(const HandInputs& inputs) {
     h.stall = false;
     h.last_seq = in.seq;
     h.steps_without_input = 0;
+    // The hand's proxy follows its tip whatever the mode (free while it pulls), against the start state.
+    if (touch_world_) {
+      if (!placed) {
+        linkPoses();
+        placed = true;
+      }
+      h.proxy.update(*touch_world_, link_poses_, in.tip_position, in.tip_radius, in.mode == InteractionMode::Pull);
+    }
     if (!user) continue;
     if (!any_user) outcome_.mode = in.mode;
     any_user = true;
@@ -219,7 +232,22 @@ void Simulation::computeControl(const HandInputs& inputs) {
     c.tip = in.tip_position;
     c.tip_velocity = in.tip_velocity;
     c.tip_radius = in.tip_radius;
-    c.contact_frame = in.contact_frame;
+    c.contact_frame = -1;  // the push acts where the server's proxy rests, on something that moves
+    c.push_shape = nullptr;
+    if (in.mode == InteractionMode::Push && touch_world_) {
+      // What the proxy rests on; else the moving shape nearest it, which the step's later stages may reach
+      // (its depth is then the tip's own, as without a proxy).
+      const int k = h.proxy.deepest(*touch_world_, in.tip_position, true);
+      const int geom = k >= 0 ? h.proxy.touch(k).geom
+                              : h.proxy.nearestMovable(*touch_world_, link_poses_, in.tip_radius, in.tip_radius);
+      if (geom >= 0) {
+        const TouchGeom& g = touch_world_->geoms()[static_cast<size_t>(geom)];
+        c.contact_frame = g.frame;
+        c.push_shape = g.shape;
+        c.push_placement = g.placement;
+        c.proxy = h.proxy.position();
+      }
+    }
     c.attach_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
     c.attach_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
     c.has_orientation = in.has_orientation;
@@ -232,12 +260,31 @@ void Simulation::computeControl(const HandInputs& inputs) {
     outcome_.input_seq = outcome_.hands[0].input_seq;
     outcome_.input_client = outcome_.hands[0].client;
   }
-  if (any_user && !interacting_) interacting_ = true;
-  if (!any_user && interacting_) {
-    // Generation resumes from the new state: for each robot, a quintic from (q, v, qdd) to its goal.
-    interacting_ = false;
-    for (auto& c : controllers_)
-      if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+  if (environment_) {
+    // A hand holds the robot it acts on alone; the others follow their trajectories. When the last
+    // hand on a robot lets go, generation resumes for it from the new state.
+    bool any_held = false;
+    for (size_t r = 0; r < controllers_.size(); ++r) {
+      const ModelPart& part = controllers_[r]->part();
+      bool held = false;
+      for (int i = 0; i < ncouplings_; ++i) {
+        const Coupling& c = couplings_[static_cast<size_t>(i)];
+        const int f = c.mode == InteractionMode::Push ? c.contact_frame : c.attach_frame;
+        held = held || (f >= part.frame_begin && f < part.frame_end);
+      }
+      if (!held && robot_held_[r] && controllers_[r]->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+      robot_held_[r] = held;
+      any_held = any_held || held;
+    }
+    interacting_ = any_held;
+  } else {
+    if (any_user && !interacting_) interacting_ = true;
+    if (!any_user && interacting_) {
+      // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
+      interacting_ = false;
+      for (auto& c : controllers_)
+        if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+    }
   }
   // The torque is inverse dynamics at the start state, which the step's first evaluation computes
   // in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics, set in step): it adds
@@ -249,16 +296,18 @@ void Simulation::computeControl(const HandInputs& inputs) {
   hold_rate_ = 0.0;
   hold_.clear();
   uncommanded_.clear();
-  for (auto& c : controllers_) {
+  for (size_t r = 0; r < controllers_.size(); ++r) {
+    RobotController* c = controllers_[r].get();
     const ModelPart& part = c->part();
-    const bool holds = interacting_ && c->active();
+    const bool held = environment_ ? robot_held_[r] != 0 : interacting_;
+    const bool holds = held && c->active();
     if (holds && c->kind() == ControllerKind::ComputedTorque) {
       hold_rate_ = c->holdDamping();
       hold_.push_back(DofRange{part.dof_begin, part.dof_end, c->holdDamping()});
     }
     if (c->inverseDynamics()) inverse_dynamics_ = true;
     else uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
-    c->command(t_, q_, v_, interacting_, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
+    c->command(t_, q_, v_, held, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
   }
   if (!inverse_dynamics_) tau_.setZero();  // no trajectory: passive robots (and PD robots' torque is the dynamics')
 }
@@ -272,8 +321,10 @@ bool Simulation::step(const InteractionInput* input) {
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
   computeControl(hands);
+  // One robot: its hold is b(q, v) (no commanded acceleration). Several: a held robot's share of
+  // qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
   CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
-                       interacting_ ? nullptr : &qdd_cmd_};
+                       interacting_ && !environment_ ? nullptr : &qdd_cmd_};
   if (environment_) {
     inputs.hold = &hold_;
     if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
@@ -338,6 +389,13 @@ void Simulation::record(bool force) {
   edited_q_.row(edited_count_) = q_.segment(record_begin_, record_nq_).transpose();
   ++edited_count_;
   next_record_t_ = t_ + kRecordPeriod;
+}
+
+const Proxy* Simulation::proxyOf(int32_t client) const {
+  if (!touch_world_) return nullptr;
+  for (const HandTrack& h : hands_)
+    if (h.client == client) return &h.proxy;
+  return nullptr;
 }
 
 const std::vector<SE3>& Simulation::linkPoses() {

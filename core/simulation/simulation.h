@@ -33,6 +33,7 @@
 
 #include "core/contact/contact_model.h"
 #include "core/integrate/integrators.h"
+#include "core/interaction/proxy.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
 #include "core/simulation/robot_controller.h"
@@ -140,6 +141,9 @@ class Simulation {
   int pullFrame() const { return resolved_.pull_frame; }
   // World poses of every URDF link at the current state.
   const std::vector<SE3>& linkPoses();
+  // What the hands' proxies touch (null with push off), and a hand's proxy (null: no such client yet).
+  const TouchWorld* touchWorld() const { return touch_world_.get(); }
+  const Proxy* proxyOf(int32_t client) const;
   // The first robot's goal configuration (end of its nominal trajectory; its initial q without one),
   // its coordinates; without robots, the whole initial q.
   const VectorX& goal() const { return controllers_.empty() ? resolved_.q0 : controllers_.front()->goal(); }
@@ -189,6 +193,15 @@ class Simulation {
     int steps_without_input = 0;
     bool stall = false;
     double scale = 1.0;
+    Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())
+    // A new hand, or a re-based copy that does not know the server's gaps (the proxy is left as it is).
+    void restart(int32_t id) {
+      client = id;
+      last_seq = -1;
+      steps_without_input = 0;
+      stall = false;
+      scale = 1.0;
+    }
   };
   HandTrack& track(int32_t client);
   void computeControl(const HandInputs& inputs);
@@ -208,6 +221,8 @@ class Simulation {
   std::array<int, kMaxHands> order_{};  // the step's inputs by client id
   Coupling gains_;                      // the gains every coupling takes
   std::array<HandTrack, kMaxHands> hands_;
+  std::unique_ptr<TouchWorld> touch_world_;  // what the hands' proxies touch (push on)
+  std::vector<char> robot_held_;            // per robot: a hand acts on it (an environment's holds)
   HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;
   bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (computeControl)

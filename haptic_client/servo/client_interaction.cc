@@ -1,14 +1,21 @@
 #include "haptic_client/servo/client_interaction.h"
 
-#include "core/geometry/deepest_contact.h"
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
 
 namespace igms {
 
+namespace {
+TouchWorld touchWorldOf(const ResolvedScene& r) {
+  TouchWorld w(*r.model);
+  for (const FixedGeom& g : solidGeometry(r)) w.addFixed(g.name, g.shape);
+  return w;
+}
+}  // namespace
+
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),
-      attach_point_(r.scene.pull.point) {}
+      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_) {}
 
 void ClientInteraction::setAttachment(int frame, const Vector3& point) {
   if (pull_frame_ < 0) return;  // pull is off in this scene
@@ -38,9 +45,8 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   const bool was_pulling = pulling_;
   pulling_ = (buttons & 1) && pull_frame_ >= 0;
   if (pulling_) mode = haptic_input_t::MODE_PULL;
-  else if (scene_.push.enabled && contact_.touching && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
+  else if (scene_.push.enabled && touching_ && guard_.armed()) mode = haptic_input_t::MODE_PUSH;
   if (pulling_ != was_pulling) blend_.resync(20);  // engaging or releasing the spring: 20 ms, not a jolt
-  if (was_pulling && !pulling_) clear_cycles_ = 0;  // a released tip is inert until it has left the robot
   // The grab: the grasped frame is the tip's orientation in the link now (relaxed rotational spring).
   if (pulling_ && !was_pulling) attach_rotation_ = last_link_R_.transpose() * tip_q_.toRotationMatrix();
   if (mode != haptic_input_t::MODE_NONE && mode != static_cast<int8_t>(input_.mode)) {  // a new interaction
@@ -82,7 +88,7 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
 Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
                                      const Vector3& tip_velocity) {
   Vector3 on_user = Vector3::Zero();
-  contact_ = TipContact{};
+  touching_ = false;
   contact_frame_ = -1;
   torque_on_user_.setZero();
   if (pull_frame_ >= 0) {
@@ -112,23 +118,18 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
     }
   }
   if (!scene_.push.enabled) return on_user;
-  const LinkContact touch = deepestContact(
-      model_, [&](int f) { return links[static_cast<size_t>(f)]; }, tip, scene_.push.tip_radius);
-  contact_ = touch.contact;
-  contact_frame_ = touch.frame;
-  // A push starts at the surface: contact engages only when it begins
-  // shallow, and lasts until the tip leaves. A tip that appears deep inside
-  // (a jump, or a pull released inside the wrist) pushes nothing.
-  push_engaged_ = contact_.touching && (push_engaged_ || contact_.depth < kEngageDepth);
-  // After a pull is let go the hand withdraws from where it held the robot, often through it (between a
-  // gripper's fingers): the tip pushes nothing until it has been clear of every link for kReleaseClearCycles.
-  if (clear_cycles_ < kReleaseClearCycles) {
-    clear_cycles_ = touch.contact.touching ? 0 : clear_cycles_ + 1;
-    push_engaged_ = false;
+  // The proxy follows the tip, free while a pull holds and after one until the tip has come out of
+  // what it held (a released hand withdraws through the gripper), as the server's does.
+  proxy_.update(world_, links, tip, scene_.push.tip_radius, pulling_);
+  const int k = proxy_.deepest(world_, tip, true);
+  if (k >= 0) {
+    touching_ = true;
+    contact_frame_ = world_.geoms()[static_cast<size_t>(proxy_.touch(k).geom)].frame;
   }
-  if (!push_engaged_) contact_ = TipContact{};
-  if (contact_.touching) on_user = -pushForce(contact_, scene_.push.k_p, scene_.push.max_force).on_link;
-  return on_user;
+  // The spring to the proxy, at the push's stiffness and limit: eq. (3)'s reaction on something that
+  // moves, a wall on what does not.
+  on_user = scene_.push.k_p * proxy_.stretch(tip);
+  return clampMagnitude(on_user, scene_.push.max_force);
 }
 
 Vector3 ClientInteraction::render(const Vector3& on_user, const Vector3& tip_velocity, bool lost,

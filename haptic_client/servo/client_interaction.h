@@ -8,7 +8,7 @@
 
 #include "haptic_client/servo/force_render.h"
 #include "igms/haptic_input_t.hpp"
-#include "core/geometry/tip_contact.h"
+#include "core/interaction/proxy.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/simulation.h"
 
@@ -27,7 +27,9 @@ class ClientInteraction {
   // grasped frame is fixed in the link so that the rotational spring starts relaxed.
   void fillInput(const Vector3& tip, const Vector3& tip_velocity, int buttons, haptic_input_t& msg);
   // Step 4: the force on the user (the reaction to c or F) against the
-  // estimate `links` at simulated time `estimate_time`.
+  // estimate `links` (every frame's world pose) at simulated time `estimate_time`. A push is the
+  // spring between the tip and its proxy, which rests on the surface: on something that moves it is
+  // eq. (3)'s reaction, on the ground or a solid obstacle a wall.
   Vector3 userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
                     const Vector3& tip_velocity);
   // Guards: start-up guard, loss ramp, resync blend (after `resynced`), the
@@ -46,7 +48,10 @@ class ClientInteraction {
   // The server is lost: a push in progress ends here, and a new one must start
   // at the surface. The tip sinks while the user feels nothing; that depth is
   // never delivered to the robot when the server returns.
-  void disengagePush() { push_engaged_ = false; }
+  void disengagePush() { proxy_.release(); }
+  // The tip's proxy (core/interaction/proxy.h) against the estimate: where the scene sees the hand.
+  const Proxy& proxy() const { return proxy_; }
+  const TouchWorld& touchWorld() const { return world_; }
   // The last input fillInput made, as the server's step will take it (frames, not names).
   const InteractionInput& input() const { return input_; }
   double forceScale() const { return ramp_.scale(); }
@@ -73,17 +78,16 @@ class ClientInteraction {
   Matrix3 last_link_R_ = Matrix3::Identity();      // the attachment link's estimated orientation
   Vector3 attach_w_ = Vector3::Zero();             // its angular velocity, differenced and low-passed
   Vector3 torque_on_user_ = Vector3::Zero(), last_torque_ = Vector3::Zero();
-  bool pulling_ = false, push_engaged_ = false;
-  TipContact contact_;
+  bool pulling_ = false;
+  TouchWorld world_;  // every link, free body, solid obstacle and the ground
+  Proxy proxy_;
+  bool touching_ = false;  // the proxy rests on something that moves: the input is a push
   int contact_frame_ = -1;
   Vector3 last_force_ = Vector3::Zero(), last_attach_ = Vector3::Zero(), attach_velocity_ = Vector3::Zero();
   double last_attach_time_ = -1.0;
   InteractionInput input_;
   double max_force_step_ = 0.0;
   int64_t slew_limited_ = 0;
-  static constexpr double kEngageDepth = 0.005;  // m: a push starts at the surface
-  static constexpr int kReleaseClearCycles = 50;  // 50 ms at 1 kHz clear of the robot after a pull is let go
-  int clear_cycles_ = kReleaseClearCycles;        // below: a released tip, still inert
 };
 
 }  // namespace igms

@@ -1,7 +1,8 @@
 // What a released tip does (haptic_client/servo/client_interaction.h): after a
 // pull is let go, the hand withdraws from where it held the robot, often
-// through it; the tip pushes nothing until it has been clear of every link for
-// 50 cycles. A tip that was never pulling pushes at the first touch.
+// through it. The tip's proxy (core/interaction/proxy.h) stays free while the
+// tip's centre is inside a link: it pushes nothing until it has come out, and
+// then starts at the surface. A tip that was never pulling pushes at the first touch.
 #include <gtest/gtest.h>
 
 #include "core/geometry/deepest_contact.h"
@@ -15,8 +16,8 @@ namespace {
 struct Bench {
   ResolvedScene scene = resolveScene(loadScene(test::sourceDir() + "/scenes/puma_obstacle.yaml"));
   std::vector<SE3> links = Simulation(scene.scene).linkPoses();
-  // A tip 1 mm into link 2 from above, and one 10 cm clear of it.
-  Vector3 touching, clear;
+  // A tip 1 mm into link 2 from above, one 5 cm clear of it, and one with its centre 2 cm inside.
+  Vector3 touching, clear, inside;
   Bench() {
     const int link2 = scene.model->frameIndex("link2");
     Vector3 tip = links[static_cast<size_t>(link2)].p + Vector3(0, 0, 0.3);
@@ -26,7 +27,8 @@ struct Bench {
       if (c.contact.touching && c.contact.depth > 1e-3) break;
     }
     touching = tip;
-    clear = tip + Vector3(0, 0, 0.1);
+    clear = tip + Vector3(0, 0, 0.05);
+    inside = tip - Vector3(0, 0, 0.03);
   }
   // One servo cycle: the input from the device, then the force against the robot. The mode sent.
   int8_t cycle(ClientInteraction& c, const Vector3& tip, int buttons) {
@@ -38,7 +40,7 @@ struct Bench {
   }
 };
 
-TEST(ReleasedTip, PushesNothingUntilItHasBeenClearOfTheRobotFor50Cycles) {
+TEST(ReleasedTip, PushesNothingUntilItsCentreHasComeOutOfTheLink) {
   Bench b;
   {  // never pulled: the first touch pushes (one cycle later: the input carries the last cycle's contact)
     ClientInteraction c(b.scene);
@@ -46,19 +48,24 @@ TEST(ReleasedTip, PushesNothingUntilItHasBeenClearOfTheRobotFor50Cycles) {
     b.cycle(c, b.clear, 0);
     b.cycle(c, b.touching, 0);
     EXPECT_EQ(b.cycle(c, b.touching, 0), haptic_input_t::MODE_PUSH);
+    EXPECT_GT(c.userForce(b.links, 0.0, b.touching, Vector3::Zero()).z(), 0.0) << "the link pushes the hand up";
   }
   ClientInteraction c(b.scene);
   c.render(Vector3::Zero(), Vector3::Zero(), false, false, 0.001, RenderLimits{30.0, 1.0, false});
-  for (int k = 0; k < 20; ++k) EXPECT_EQ(b.cycle(c, b.clear, 1), haptic_input_t::MODE_PULL);
-  // Let go where the tip touches the arm: nothing, however long it stays.
-  for (int k = 0; k < 200; ++k) EXPECT_EQ(b.cycle(c, b.touching, 0), haptic_input_t::MODE_NONE) << k;
-  // Clear for 49 cycles, then back: still nothing.
-  for (int k = 0; k < 49; ++k) b.cycle(c, b.clear, 0);
-  for (int k = 0; k < 5; ++k) EXPECT_EQ(b.cycle(c, b.touching, 0), haptic_input_t::MODE_NONE) << k;
-  // Clear for 50: the next touch pushes.
-  for (int k = 0; k < 50; ++k) b.cycle(c, b.clear, 0);
+  for (int k = 0; k < 20; ++k) EXPECT_EQ(b.cycle(c, b.inside, 1), haptic_input_t::MODE_PULL);
+  // Let go with the tip's centre inside the arm: nothing, however long it stays, and no force.
+  for (int k = 0; k < 200; ++k) EXPECT_EQ(b.cycle(c, b.inside, 0), haptic_input_t::MODE_NONE) << k;
+  EXPECT_EQ(c.userForce(b.links, 0.0, b.inside, Vector3::Zero()), Vector3::Zero());
+  EXPECT_TRUE(c.proxy().free());
+  // Out to the surface: the proxy engages there, and the next touch pushes.
   b.cycle(c, b.touching, 0);
+  EXPECT_FALSE(c.proxy().free());
   EXPECT_EQ(b.cycle(c, b.touching, 0), haptic_input_t::MODE_PUSH);
+  // Back in, 3 cm: the proxy stays on the surface and the force grows, along the same side.
+  for (int k = 0; k < 5; ++k) b.cycle(c, b.inside, 0);
+  EXPECT_EQ(b.cycle(c, b.inside, 0), haptic_input_t::MODE_PUSH);
+  const Vector3 f = c.userForce(b.links, 0.0, b.inside, Vector3::Zero());
+  EXPECT_GT(f.z(), 0.9 * std::min(b.scene.scene.push.max_force, b.scene.scene.push.k_p * 0.031)) << f.transpose();
 }
 
 // The 6-D pull on the client's side: the grab leaves the rotational spring

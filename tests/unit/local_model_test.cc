@@ -22,11 +22,11 @@ struct Case {
   const char* scene;
   InteractionMode mode;
   const char* link;
-  Vector3 offset;  // push: tip from the link origin; pull: the tip's displacement from the attachment
+  Vector3 offset;  // push: tip from the link origin (at most 5 mm deep: proxy.h); pull: the tip's displacement from the attachment
 };
 
 TEST(LocalModel, ReproducesTheServersStepUnderTheSameInputs) {
-  for (const Case& c : {Case{"puma_obstacle.yaml", InteractionMode::Push, "link2", Vector3(0.2, 0.0, 0.075)},
+  for (const Case& c : {Case{"puma_obstacle.yaml", InteractionMode::Push, "link2", Vector3(0.2, 0.0, 0.156)},
                         Case{"quadruped_float.yaml", InteractionMode::Pull, "trunk", Vector3(0.05, 0.02, 0.03)}}) {
     const ResolvedScene scene = resolveScene(loadScene(test::sourceDir() + "/scenes/" + c.scene));
     Simulation server(scene);

@@ -182,7 +182,7 @@ TEST(Simulation, AnInteractionAfterAGapInInputsIsRampedBackIn) {
     InteractionInput push;
     push.mode = InteractionMode::Push;
     push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
-                         sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.05);
+                         sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.056);
     push.tip_radius = 0.01;
     push.contact_frame = link3;
     push.client = 1;
@@ -220,7 +220,7 @@ TEST(Simulation, AStallIsRampedOutEvenWhenTheFirstStepAfterItHasNoInput) {
     push.client = 1;
     auto pressAt = [&] {
       push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
-                           sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.05);
+                           sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.056);
     };
     int seq = 1;
     pressAt();
@@ -255,7 +255,7 @@ TEST(Simulation, ReportedForceIsTheStartStateForceUnderEveryIntegrator) {
     const Vector3 centre = (sim.linkPoses()[static_cast<size_t>(link3)] * cylinder.placement).p;
     InteractionInput push;
     push.mode = InteractionMode::Push;
-    push.tip_position = centre + Vector3(0, 0, 0.05);
+    push.tip_position = centre + Vector3(0, 0, 0.056);
     push.tip_radius = 0.01;
     push.contact_frame = link3;
     double worst = 0.0, largest = 0.0;
@@ -268,7 +268,7 @@ TEST(Simulation, ReportedForceIsTheStartStateForceUnderEveryIntegrator) {
       worst = std::max(worst, (sim.outcome().force_on_robot - expected.on_link).norm());
       largest = std::max(largest, expected.on_link.norm());
     }
-    EXPECT_GT(largest, 10.0) << integratorName(kind) << ": the probe must press hard enough to matter";
+    EXPECT_GT(largest, 5.0) << integratorName(kind) << ": the probe must press hard enough to matter";
     EXPECT_LE(worst, 1e-9 * largest) << integratorName(kind);
   }
 }

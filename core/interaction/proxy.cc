@@ -1,0 +1,235 @@
+#include "core/interaction/proxy.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/point_query.h"
+#include "core/geometry/shape_bounds.h"
+
+namespace igms {
+
+namespace {
+
+constexpr double kTouchSlop = 1e-6;  // m: resting on a surface within this counts as touching it
+constexpr double kStopped = 1e-12;   // m: a move shorter than this is none
+
+TouchGeom makeGeom(const CollisionShape& shape, const std::string& name) {
+  TouchGeom g;
+  g.shape = &shape;
+  g.name = name;
+  g.plane = shape.kind == CollisionShape::Kind::Plane;
+  Vector3 half;
+  boundingBox(shape, g.centre, half);
+  g.bound = half.norm();
+  return g;
+}
+
+// The direction the proxy may move toward `goal` without entering the shapes it rests on (normals n):
+// the goal's part along the surface, along an edge where two meet, none in a corner.
+Vector3 constrainMove(const Vector3& delta, const std::array<ProxyTouch, Proxy::kMaxTouches>& touches, int n) {
+  int first = -1;
+  Vector3 d = delta;
+  for (int pass = 0; pass < 3; ++pass) {
+    int worst = -1;
+    double most = -kStopped;
+    for (int k = 0; k < n; ++k) {
+      const double along = d.dot(touches[static_cast<size_t>(k)].normal);
+      if (along < most && k != first) {
+        most = along;
+        worst = k;
+      }
+    }
+    if (worst < 0) return d;
+    const Vector3& nw = touches[static_cast<size_t>(worst)].normal;
+    if (first < 0) {
+      first = worst;
+      d = delta - delta.dot(nw) * nw;
+      continue;
+    }
+    Vector3 edge = touches[static_cast<size_t>(first)].normal.cross(nw);
+    const double len = edge.norm();
+    if (len < 1e-9) return Vector3::Zero();
+    edge /= len;
+    d = delta.dot(edge) * edge;
+    // A third shape in the way: a corner.
+    for (int k = 0; k < n; ++k)
+      if (d.dot(touches[static_cast<size_t>(k)].normal) < -kStopped) return Vector3::Zero();
+    return d;
+  }
+  return d;
+}
+
+}  // namespace
+
+TouchWorld::TouchWorld(const Model& model) {
+  for (size_t f = 0; f < model.frames.size(); ++f) {
+    const Frame& fr = model.frames[f];
+    for (const CollisionShape& shape : fr.collisions) {
+      if (shape.kind == CollisionShape::Kind::Mesh && !shape.field) continue;  // nothing to query
+      TouchGeom g = makeGeom(shape, fr.name);
+      g.frame = static_cast<int>(f);
+      g.movable = fr.body >= 0;
+      g.placement = shape.placement;
+      geoms_.push_back(g);
+    }
+  }
+}
+
+void TouchWorld::addFixed(const std::string& name, const CollisionShape& shape) {
+  if (shape.kind == CollisionShape::Kind::Mesh && !shape.field) return;
+  own_.push_back(std::make_unique<CollisionShape>(shape));
+  TouchGeom g = makeGeom(*own_.back(), name);
+  g.placement = shape.placement;
+  geoms_.push_back(g);
+}
+
+SE3 TouchWorld::pose(int g, const std::vector<SE3>& frame_poses) const {
+  const TouchGeom& t = geoms_[static_cast<size_t>(g)];
+  return t.frame >= 0 ? frame_poses[static_cast<size_t>(t.frame)] * t.placement : t.placement;
+}
+
+void Proxy::gatherCandidates(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& centre,
+                             double reach) {
+  ncandidates_ = 0;
+  const auto& geoms = world.geoms();
+  for (size_t g = 0; g < geoms.size() && g < candidates_.size(); ++g) {
+    const TouchGeom& t = geoms[g];
+    if (!t.plane) {
+      const Vector3 c = world.pose(static_cast<int>(g), frame_poses).act(t.centre);
+      if ((c - centre).norm() > t.bound + reach) continue;
+    }
+    candidates_[static_cast<size_t>(ncandidates_++)] = static_cast<int>(g);
+  }
+}
+
+bool Proxy::centreInside(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
+  gatherCandidates(world, frame_poses, p_, radius);
+  const auto& geoms = world.geoms();
+  for (int k = 0; k < ncandidates_; ++k) {
+    const int g = candidates_[static_cast<size_t>(k)];
+    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+    if (q.valid && q.distance < -kTouchSlop) return true;
+  }
+  return false;
+}
+
+void Proxy::depenetrate(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
+  const auto& geoms = world.geoms();
+  for (int pass = 0; pass < 4; ++pass) {
+    double worst = -kTouchSlop;
+    PointQuery out;
+    for (int k = 0; k < ncandidates_; ++k) {
+      const int g = candidates_[static_cast<size_t>(k)];
+      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+      if (!q.valid) continue;
+      const double gap = q.distance - radius;
+      if (gap < worst) {
+        worst = gap;
+        out = q;
+      }
+    }
+    if (!out.valid) return;
+    p_ = out.surface + radius * out.normal;
+  }
+}
+
+void Proxy::collectTouches(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
+  ntouches_ = 0;
+  const auto& geoms = world.geoms();
+  for (int k = 0; k < ncandidates_ && ntouches_ < kMaxTouches; ++k) {
+    const int g = candidates_[static_cast<size_t>(k)];
+    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+    if (!q.valid || q.distance > radius + kTouchSlop) continue;
+    touches_[static_cast<size_t>(ntouches_++)] = ProxyTouch{g, q.normal, q.surface};
+  }
+}
+
+void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& device, double radius,
+                   bool free_hold) {
+  if (free_hold) {
+    last_device_ = device;
+    has_device_ = true;
+    p_ = device;
+    release();
+    return;
+  }
+  const double step = std::max(0.5 * radius, 1e-4);  // a point tip still moves (in 0.1 mm steps)
+  // A device that jumped (no hand moves kJump in a cycle: a mapping that changed, a script that started)
+  // or a shape that landed over the proxy's centre (a re-based estimate) frees it.
+  const bool jumped = has_device_ && (device - last_device_).norm() > kJump;
+  last_device_ = device;
+  has_device_ = true;
+  if (!free_ && (jumped || centreInside(world, frame_poses, radius))) release();
+  if (free_) {
+    // Engage where the device is clear of everything, or no deeper than kEngageDepth.
+    const double engage = radius - std::min(radius, kEngageDepth) - kTouchSlop;
+    p_ = device;
+    gatherCandidates(world, frame_poses, device, radius);
+    const auto& geoms = world.geoms();
+    for (int k = 0; k < ncandidates_; ++k) {
+      const int g = candidates_[static_cast<size_t>(k)];
+      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), device, 2.0 * radius);
+      if (q.valid && q.distance < engage) return;  // deeper: stays free
+    }
+    free_ = false;
+    depenetrate(world, frame_poses, radius);
+    collectTouches(world, frame_poses, radius);
+    return;
+  }
+  // What the proxy can meet this cycle: within its travel (at most kMaxSubsteps steps) and its radius.
+  const double travel = std::min((device - p_).norm(), kMaxSubsteps * step);
+  gatherCandidates(world, frame_poses, p_, travel + 2.0 * radius);
+  depenetrate(world, frame_poses, radius);  // what moved into it since the last cycle
+  collectTouches(world, frame_poses, radius);
+  int s = 0;
+  for (; s < kMaxSubsteps; ++s) {
+    Vector3 move = constrainMove(device - p_, touches_, ntouches_);
+    const double len = move.norm();
+    if (len < kStopped) break;
+    if (len > step) move *= step / len;
+    p_ += move;
+    depenetrate(world, frame_poses, radius);
+    collectTouches(world, frame_poses, radius);
+  }
+  if (s == kMaxSubsteps && constrainMove(device - p_, touches_, ntouches_).norm() >= kStopped) ++substep_limited_;
+}
+
+int Proxy::deepest(const TouchWorld& world, const Vector3& device, bool movable_only) const {
+  int best = -1;
+  double depth = 0.0;
+  for (int k = 0; k < ntouches_; ++k) {
+    const ProxyTouch& t = touches_[static_cast<size_t>(k)];
+    if (movable_only && !world.geoms()[static_cast<size_t>(t.geom)].movable) continue;
+    const double d = (p_ - device).dot(t.normal);
+    if (d > depth) {
+      depth = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+int Proxy::nearestMovable(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius,
+                          double reach) const {
+  if (free_) return -1;
+  int best = -1;
+  double nearest = radius + reach;
+  for (int k = 0; k < ncandidates_; ++k) {
+    const int g = candidates_[static_cast<size_t>(k)];
+    const TouchGeom& t = world.geoms()[static_cast<size_t>(g)];
+    if (!t.movable) continue;
+    const PointQuery q = pointQuery(*t.shape, world.pose(g, frame_poses), p_, nearest);
+    if (q.valid && q.distance < nearest) {
+      nearest = q.distance;
+      best = g;
+    }
+  }
+  return best;
+}
+
+Vector3 Proxy::stretch(const Vector3& device) const {
+  if (free_ || ntouches_ == 0) return Vector3::Zero();
+  return p_ - device;
+}
+
+}  // namespace igms
