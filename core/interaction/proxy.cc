@@ -183,15 +183,25 @@ void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses,
   collectTouches(world, frame_poses, radius);
   int s = 0;
   for (; s < kMaxSubsteps; ++s) {
-    Vector3 move = constrainMove(device - p_, touches_, ntouches_);
-    const double len = move.norm();
+    const Vector3 goal = device - p_;
+    Vector3 move = constrainMove(goal, touches_, ntouches_);
+    double len = move.norm();
+    if (friction_ > 0.0 && ntouches_ > 0) {
+      // Coulomb: the move along the surface is what the tangential pull has beyond mu times the normal one.
+      double normal = 0.0;
+      for (int k = 0; k < ntouches_; ++k) normal = std::max(normal, -goal.dot(touches_[static_cast<size_t>(k)].normal));
+      const double slide = len - friction_ * normal;
+      if (slide <= 0.0) break;  // inside the cone: it sticks
+      move *= slide / len;
+      len = slide;
+    }
     if (len < kStopped) break;
     if (len > step) move *= step / len;
     p_ += move;
     depenetrate(world, frame_poses, radius);
     collectTouches(world, frame_poses, radius);
   }
-  if (s == kMaxSubsteps && constrainMove(device - p_, touches_, ntouches_).norm() >= kStopped) ++substep_limited_;
+  if (s == kMaxSubsteps) ++substep_limited_;
 }
 
 int Proxy::deepest(const TouchWorld& world, const Vector3& device, bool movable_only) const {

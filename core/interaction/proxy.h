@@ -4,8 +4,10 @@
 //  - it moves toward the device in steps of at most half its radius, so it
 //    never tunnels through a link or a box, however thin, however deep the
 //    device goes;
-//  - on a surface it slides (without friction) along the tangent planes of the
-//    shapes it rests on, up to two at once (an edge), and stops in a corner;
+//  - on a surface it slides along the tangent planes of the shapes it rests
+//    on, up to two at once (an edge), and stops in a corner; with Coulomb
+//    friction (as CHAI3D's proxy): it sticks while the device is inside the
+//    friction cone round the normal, and beyond it slides to the cone's edge;
 //  - a shape that moves into it pushes it out along the shape's normal; one
 //    that lands over its centre in one cycle (no motion does that in 1 ms: a
 //    re-based estimate, a reset) frees it, as below, and so does a device that
@@ -79,7 +81,9 @@ class Proxy {
   static constexpr double kEngageDepth = 0.005;  // m (or the radius, if smaller): a free proxy engages no deeper
 
   Proxy() = default;
-  explicit Proxy(const TouchWorld& world) : candidates_(world.geoms().size()) {}
+  // friction: the cone's coefficient (0: frictionless).
+  explicit Proxy(const TouchWorld& world, double friction = 0.0)
+      : candidates_(world.geoms().size()), friction_(friction) {}
 
   // One cycle: the proxy toward `device` (radius `radius`) against the shapes at `frame_poses`.
   // free_hold: a pull holds (the proxy is the device).
@@ -122,6 +126,7 @@ class Proxy {
   int ntouches_ = 0;
   std::vector<int> candidates_;
   int ncandidates_ = 0;
+  double friction_ = 0.0;
   int64_t substep_limited_ = 0;
 };
 

@@ -19,7 +19,7 @@
 //     duration: 3.0
 //   controller: {kp: 400, kd: 40, hold_damping: 2.0}   # scalars or one per joint; kind: computed_torque | pd
 //   interaction:
-//     push: {k_p: 2000, max_force: 40, tip_radius: 0.01}
+//     push: {k_p: 2000, max_force: 40, tip_radius: 0.01, friction: 0.5}
 //     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0],
 //            k_rot: 20, b_rot: 0.5, max_torque: 5, max_angle: 0.5}   # N m/rad, N m s/rad, N m, rad
 //     workspace: {scale: 3.0, offset: [0.5, 0.0, 0.3]}   # scene = offset + scale * device
@@ -92,6 +92,10 @@ struct PushParams {
   double k_p = 2000.0;        // N/m (eq. 3)
   double max_force = 50.0;    // N, clamped and counted
   double tip_radius = 0.01;   // m
+  // The tip's proxy (core/interaction/proxy.h) sticks on a surface while the device is inside this
+  // friction cone (Coulomb), and slides at its edge beyond: without it a proxy slides round a thin
+  // round link until it is under it.
+  double friction = 0.5;
 };
 
 struct PullParams {

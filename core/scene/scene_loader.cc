@@ -399,11 +399,13 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   if (const YAML::Node in = root["interaction"]) {
     r.onlyKeys(in, "interaction", {"push", "pull", "workspace"});
     if (const YAML::Node p = in["push"]) {
-      r.onlyKeys(p, "interaction.push", {"k_p", "max_force", "tip_radius"});
+      r.onlyKeys(p, "interaction.push", {"k_p", "max_force", "tip_radius", "friction"});
       s.push.enabled = true;
       s.push.k_p = r.positive(p, "k_p", s.push.k_p, "interaction.push");
       s.push.max_force = r.positive(p, "max_force", s.push.max_force, "interaction.push");
       s.push.tip_radius = r.positive(p, "tip_radius", s.push.tip_radius, "interaction.push");
+      s.push.friction = r.number(p, "friction", s.push.friction);
+      if (!(s.push.friction >= 0.0)) r.fail(p["friction"], "interaction.push.friction", "must be >= 0");
     }
     if (const YAML::Node p = in["pull"]) {
       r.onlyKeys(p, "interaction.pull", {"k", "b", "max_force", "max_stretch", "link", "point", "k_rot", "b_rot",

@@ -57,7 +57,7 @@ Simulation::Simulation(ResolvedScene resolved)
   if (scene_.push.enabled) {
     touch_world_ = std::make_unique<TouchWorld>(m);
     for (const FixedGeom& g : solidGeometry(resolved_)) touch_world_->addFixed(g.name, g.shape);
-    for (HandTrack& h : hands_) h.proxy = Proxy(*touch_world_);
+    for (HandTrack& h : hands_) h.proxy = Proxy(*touch_world_, scene_.push.friction);
   }
   hold_.reserve(controllers_.size());
   uncommanded_.reserve(controllers_.size());

@@ -15,7 +15,7 @@ TouchWorld touchWorldOf(const ResolvedScene& r) {
 
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),
-      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_) {}
+      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_, r.scene.push.friction) {}
 
 void ClientInteraction::setAttachment(int frame, const Vector3& point) {
   if (pull_frame_ < 0) return;  // pull is off in this scene
@@ -121,14 +121,20 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   // The proxy follows the tip, free while a pull holds and after one until the tip has come out of
   // what it held (a released hand withdraws through the gripper), as the server's does.
   proxy_.update(world_, links, tip, scene_.push.tip_radius, pulling_);
+  // The spring to the proxy, at the push's stiffness and limit. On something that moves it is eq. (3)'s
+  // reaction, along that surface's normal as the server applies c (the proxy's friction is the hand's
+  // alone, so it is left out there: what the body gets, the hand feels); on what does not, the whole
+  // spring, a wall with friction.
+  const Vector3 stretch = proxy_.stretch(tip);
   const int k = proxy_.deepest(world_, tip, true);
   if (k >= 0) {
     touching_ = true;
     contact_frame_ = world_.geoms()[static_cast<size_t>(proxy_.touch(k).geom)].frame;
+    const Vector3& n = proxy_.touch(k).normal;
+    on_user = scene_.push.k_p * stretch.dot(n) * n;
+  } else {
+    on_user = scene_.push.k_p * stretch;
   }
-  // The spring to the proxy, at the push's stiffness and limit: eq. (3)'s reaction on something that
-  // moves, a wall on what does not.
-  on_user = scene_.push.k_p * proxy_.stretch(tip);
   return clampMagnitude(on_user, scene_.push.max_force);
 }
 
