@@ -22,6 +22,9 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                       {"final_ee", {r.final_ee.x(), r.final_ee.y(), r.final_ee.z()}},
                       {"max_user_force", r.max_user_force},
                       {"max_robot_force", r.max_robot_force},
+                      {"max_force_step", r.max_force_step},
+                      {"max_proxy_penetration", r.max_proxy_penetration},
+                      {"max_device_behind_proxy", r.max_device_behind_proxy},
                       {"diverged", r.diverged},
                       {"max_contacts", r.max_contacts},
                       {"max_penetration", r.max_penetration},
@@ -46,13 +49,15 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "t,mode,ee_x,ee_y,ee_z,fx,fy,fz,min_distance,in_collision";
   for (const std::string& c : r.q_columns) f << "," << c;
-  f << ",contacts,max_penetration\n";
+  f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z\n";
   for (const auto& s : r.samples) {
     f << s.t << "," << s.mode << "," << s.ee.x() << "," << s.ee.y() << "," << s.ee.z() << "," << s.force_on_robot.x()
       << "," << s.force_on_robot.y() << "," << s.force_on_robot.z() << "," << s.min_obstacle_distance << ","
       << s.in_collision;
     for (double q : s.q) f << "," << q;
-    f << "," << s.contacts << "," << s.max_penetration << "\n";
+    f << "," << s.contacts << "," << s.max_penetration;
+    for (const igms::Vector3* v : {&s.tip, &s.proxy}) f << "," << v->x() << "," << v->y() << "," << v->z();
+    f << "\n";
   }
 }
 
@@ -61,6 +66,7 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
 int main(int argc, char** argv) {
   std::string scene_path, script, save, csv;
   double seconds = 6.0;
+  bool device_limits = false;
   CLI::App app{"", "igms-scenario"};
   igms::cli::describe(app, "A scene and a device script run in-process (lockstep, no network); the outcome as JSON.");
   app.add_option("--scene", scene_path, "scene file (YAML)")->required()->check(CLI::ExistingFile);
@@ -71,6 +77,8 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", seconds, "simulated seconds")->check(igms::cli::positive("SECONDS"));
   app.add_option("--save-edited", save, "write the edited trajectory here");
   app.add_option("--csv", csv, "every step as CSV here");
+  app.add_flag("--device-limits", device_limits,
+               "render within the device's force and per-cycle step, as igms-haptic does (default: unbounded)");
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   try {
     for (const std::string& out : {save, csv}) {  // out/x.csv when out/ does not exist yet
@@ -79,7 +87,7 @@ int main(int argc, char** argv) {
       if (!out.empty() && !folder.empty()) std::filesystem::create_directories(folder, ignored);
     }
     if (!script.empty()) script = script.substr(9);
-    const igms::ScenarioResult r = igms::runScenario(igms::loadScene(scene_path), script, seconds, save);
+    const igms::ScenarioResult r = igms::runScenario(igms::loadScene(scene_path), script, seconds, save, 0.01, device_limits);
     std::printf("%s\n", toJson(r).dump().c_str());
     if (!csv.empty()) writeCsv(r, csv);
   } catch (const std::exception& e) {

@@ -3,6 +3,7 @@
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/client_interaction.h"
 #include "server/collision/collision_world.h"
+#include "core/geometry/point_query.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "server/transport/input_gate.h"
@@ -12,7 +13,7 @@
 namespace igms {
 
 ScenarioResult runScenario(const Scene& scene, const std::string& script, double seconds,
-                           const std::string& save_edited, double reach_tolerance) {
+                           const std::string& save_edited, double reach_tolerance, bool device_limits) {
   ScenarioResult out;
   Simulation sim(resolveScene(scene));
   const Model& model = sim.model();
@@ -44,6 +45,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
   InteractionInput input;
   const int steps = static_cast<int>(seconds / period + 0.5);
   int last_mode = 0;
+  Vector3 last_rendered = Vector3::Zero();
   for (int k = 1; k <= steps; ++k) {
     const double t = (k - 1) * period;
     const DeviceReading r = device ? device->read(t) : DeviceReading{};
@@ -60,7 +62,12 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     }
     links = sim.linkPoses();
     const Vector3 on_user = device ? client.userForce(links, sim.time(), tip, tip_velocity) : Vector3::Zero();
-    const Vector3 rendered = client.render(on_user, tip_velocity, false, false, period, RenderLimits{});
+    RenderLimits limits;
+    if (device && device_limits) {
+      limits.max_force = device->limits().max_force;
+      limits.max_step = device->limits().max_force_step;
+    }
+    const Vector3 rendered = client.render(on_user, tip_velocity, false, false, period, limits);
     if (device) device->write(rendered);
     ScenarioSample s;
     s.t = sim.time();
@@ -68,6 +75,8 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     s.mode = static_cast<int>(sim.outcome().mode);
     s.force_on_robot = sim.outcome().force_on_robot;
     s.ee = ee >= 0 ? links[static_cast<size_t>(ee)].p : Vector3::Zero();
+    s.tip = device ? tip : Vector3::Zero();
+    s.proxy = device ? client.proxy().position() : Vector3::Zero();
     const CollisionReport c = all.check(links), cn = not_wall.check(links);
     s.min_obstacle_distance = c.min_distance;
     s.in_collision = cn.in_collision;
@@ -89,6 +98,21 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
         (s.ee - robot->trajectory.target).norm() <= reach_tolerance)
       out.reached_wall_time = s.t;
     out.max_user_force = std::max(out.max_user_force, rendered.norm());
+    out.max_force_step = std::max(out.max_force_step, (rendered - last_rendered).norm());
+    last_rendered = rendered;
+    if (device && scene.push.enabled) {
+      // How far the proxy is inside anything, against the state the hand felt, and the device behind it.
+      const TouchWorld& world = client.touchWorld();
+      const Proxy& proxy = client.proxy();
+      double clear = 1e9;
+      for (int g = 0; g < static_cast<int>(world.geoms().size()); ++g) {
+        const PointQuery q = pointQuery(*world.geoms()[static_cast<size_t>(g)].shape, world.pose(g, links), proxy.position());
+        if (q.valid) clear = std::min(clear, q.distance);
+      }
+      if (!proxy.free()) out.max_proxy_penetration = std::max(out.max_proxy_penetration, scene.push.tip_radius - clear);
+      if (proxy.touches() > 0)
+        out.max_device_behind_proxy = std::max(out.max_device_behind_proxy, (proxy.position() - tip).norm());
+    }
     out.max_robot_force = std::max(out.max_robot_force, s.force_on_robot.norm());
     if (s.mode != last_mode) {
       if (s.mode) {

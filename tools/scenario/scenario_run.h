@@ -17,6 +17,7 @@ struct ScenarioSample {
   std::vector<double> q;   // the environment's coordinates (ScenarioResult::q_columns names them)
   int mode;
   Vector3 force_on_robot, ee;
+  Vector3 tip, proxy;      // the device's tip and its proxy, scene frame (zero without a device)
   double min_obstacle_distance;
   bool in_collision;
   int contacts;            // contact points at the step's start
@@ -38,6 +39,11 @@ struct ScenarioResult {
   double reached_wall_time = -1.0;       // s when the end-effector first came within reach_tolerance of the target
   Vector3 final_ee = Vector3::Zero();
   double max_user_force = 0.0;           // N, |force rendered to the user|
+  double max_force_step = 0.0;           // N, the rendered force's largest change in one cycle
+  // The hand's proxy (core/interaction/proxy.h): its deepest overlap with anything (m; it stays on
+  // surfaces), and how far the device got behind it while it touched something (m).
+  double max_proxy_penetration = 0.0;
+  double max_device_behind_proxy = 0.0;
   double max_robot_force = 0.0;          // N, |force applied to the robot|
   std::vector<std::pair<double, double>> interactions;  // [start, end] s of each push or pull
   std::vector<int> interaction_modes;
@@ -46,7 +52,10 @@ struct ScenarioResult {
 
 // Runs `seconds` of the scene with the device script (scripted:FILE) at the
 // scene's rate. save_edited: write the executed trajectory there (optional).
+// device_limits: render within the device's force and per-cycle step, as igms-haptic does (without:
+// the force the laws give, unbounded, which the paper's experiments compare).
 ScenarioResult runScenario(const Scene& scene, const std::string& device_script, double seconds,
-                           const std::string& save_edited = "", double reach_tolerance = 0.01);
+                           const std::string& save_edited = "", double reach_tolerance = 0.01,
+                           bool device_limits = false);
 
 }  // namespace igms
