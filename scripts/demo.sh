@@ -16,19 +16,23 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=push
 if [[ "${1:-}" == "--pull" ]]; then mode=pull; fi
+echo "demo: [1/4] set-up: packages, robot models, Python environments, the build (minutes on a fresh machine)"
 scripts/setup.sh >/dev/null
 out=out/demo
 rm -rf "$out"
 mkdir -p "$out"
+echo "demo: [2/4] the nominal motion, no hand (7 s simulated)"
 scripts/paper_run.sh nominal "$out/nominal" > /dev/null
 echo "== without interaction (out/demo/nominal/summary.md):"
 sed -n 4,5p "$out/nominal/summary.md"
 echo
+echo "demo: [3/4] the paper's $mode experiment over the bus (server, haptic client, logger), then its plots and live-view screenshots"
 scripts/paper_run.sh "$mode" "$out"
 echo
 # The live view at the moment of each push (or pull), from the recorded session, in headless Chromium.
 scripts/screenshot_pushes.py "$out/session.lcmlog" "$out"
 echo
+echo "demo: [4/4] two hands at once"
 echo "== two hands at once (out/demo/two_hands/summary.md):"
 scripts/paper_run.sh two_hands "$out/two_hands" | sed -n '3,$p'
 echo

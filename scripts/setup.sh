@@ -2,8 +2,11 @@
 # Fresh-machine set-up: installs the Debian packages igms needs (as root,
 # idempotent, quiet when all are there), then configures and builds (Release).
 #   scripts/setup.sh [extra cmake -D options]
+# Its stages and the build's progress go to stderr (callers that silence stdout still show them);
+# the build's full output is in build.log, and its tail is printed when it fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+stage() { echo "setup: $*" >&2; }
 
 packages=(
   cmake ninja-build g++ pkg-config            # toolchain
@@ -23,12 +26,13 @@ packages=(
   chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)
   fonts-dejavu-core socat                     # the page's text; scripts/live.sh's bridge out of the netns
 )
+stage "[1/5] Debian packages"
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}"
+  echo "setup: installing ${#missing[@]} packages (a few minutes on a fresh machine): ${missing[*]}" >&2
   sudo=""
   [[ $(id -u) -eq 0 ]] || sudo="sudo"
   $sudo apt-get update -qq
@@ -36,16 +40,35 @@ if ((${#missing[@]})); then
 fi
 
 # Real robot models (Panda, UR5, ...) for the mesh tests and scenes; without PyPI those tests skip.
+stage "[2/5] robot models (example-robot-data)"
 scripts/fetch_robots.sh || echo "setup: example-robot-data not fetched; the tests that need it will skip" >&2
 # Python's LCM binding (PyPI only) in .venv: igmslog.py and the Python tests.
+stage "[3/5] Python environments (.venv, .venv-peers)"
 scripts/python_env.sh >/dev/null || echo "setup: .venv without lcm; the Python log tests will fail" >&2
 # Pinocchio, MuJoCo and SciPy (PyPI only) in .venv-peers: the accuracy report's independent truth and
 # MuJoCo's integrators (independent_truth_test), and the optional peer benchmark.
 scripts/peer_env.sh >/dev/null || echo "setup: no .venv-peers; independent_truth_test will fail" >&2
 
+stage "[4/5] configure (build.configure.log)"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
   cat build.configure.log
   exit 1
 }
 grep -E "built:|left out:" build.configure.log || true
-cmake --build build -j "$(nproc)"
+# Ninja's "[k/N]" lines, one progress line per tenth on stderr; everything in build.log.
+stage "[5/5] build (build.log)"
+set +e
+cmake --build build -j "$(nproc)" 2>&1 | tee build.log | awk '
+  match($0, /^\[[0-9]+\/[0-9]+\]/) {
+    split(substr($0, 2, RLENGTH - 2), kn, "/")
+    pct = int(100 * kn[1] / kn[2])
+    if (pct >= shown + 10 || kn[1] == kn[2]) { printf "setup: build %d%% (%d of %d steps)\n", pct, kn[1], kn[2] > "/dev/stderr"; shown = pct }
+  }'
+status=${PIPESTATUS[0]}
+set -e
+if ((status != 0)); then
+  echo "setup: the build failed; the end of build.log:" >&2
+  tail -n 40 build.log >&2
+  exit "$status"
+fi
+stage "done"
