@@ -27,6 +27,8 @@ json shape(const CollisionShape& s, const std::string& model_file,
     case CollisionShape::Kind::Box: j["kind"] = "box"; j["size"] = vec(s.size); break;
     case CollisionShape::Kind::Cylinder: j["kind"] = "cylinder"; j["size"] = vec(s.size); break;
     case CollisionShape::Kind::Sphere: j["kind"] = "sphere"; j["size"] = vec(s.size); break;
+    case CollisionShape::Kind::Capsule: j["kind"] = "capsule"; j["size"] = vec(s.size); break;
+    case CollisionShape::Kind::Plane: j["kind"] = "plane"; break;  // its z = 0, solid below
     case CollisionShape::Kind::Mesh: {
       j["kind"] = "mesh";
       j["scale"] = vec(s.mesh_scale);
@@ -119,6 +121,16 @@ SessionScene describeSession(const session_info_t& info,
     for (const Obstacle& o : s.obstacles) {
       json j = shape(o.shape, m.source, serve);
       j["name"] = o.name;
+      j["solid"] = o.solid;  // solid ones touch (drawn opaque); ghosts are only monitored
+      obstacles.push_back(j);
+    }
+    if (s.ground.enabled) {  // the ground plane, drawn as one more solid obstacle
+      CollisionShape plane;
+      plane.kind = CollisionShape::Kind::Plane;
+      plane.placement = s.ground.pose;
+      json j = shape(plane, m.source, serve);
+      j["name"] = "ground";
+      j["solid"] = true;
       obstacles.push_back(j);
     }
     hello["obstacles"] = obstacles;

@@ -139,6 +139,29 @@ TEST(SessionScene, DescribesLinksObstaclesAndPaths) {
   EXPECT_NEAR(h["push"]["k_p"].get<double>(), 2000.0, 1e-9);
 }
 
+// An environment: free bodies are links drawn as their shapes; solid obstacles and the ground
+// (a plane) come as obstacles marked solid.
+TEST(SessionScene, DescribesFreeBodiesSolidObstaclesAndTheGround) {
+  const std::string source = std::getenv("IGMS_SOURCE_DIR") ? std::getenv("IGMS_SOURCE_DIR") : ".";
+  const igms::web::SessionScene s = igms::web::describeSession(
+      sessionFor(fs::path(source) / "scenes/puma_table.yaml"), [&](const std::string&) { return "/mesh/0/x"; });
+  ASSERT_EQ(s.error, "");
+  const nlohmann::json h = nlohmann::json::parse(s.hello_json);
+  int boxes = 0;
+  for (const auto& l : h["links"])
+    if (l["name"].get<std::string>().rfind("box_", 0) == 0) {
+      ++boxes;
+      EXPECT_EQ(l["shapes"][0]["kind"], "box");  // a free body is drawn as its shape
+    }
+  EXPECT_EQ(boxes, 3);
+  ASSERT_EQ(h["obstacles"].size(), 3u);  // the wall (a ghost), the table (solid), the ground
+  EXPECT_FALSE(h["obstacles"][0]["solid"].get<bool>());
+  EXPECT_TRUE(h["obstacles"][1]["solid"].get<bool>());
+  EXPECT_EQ(h["obstacles"][2]["name"], "ground");
+  EXPECT_EQ(h["obstacles"][2]["kind"], "plane");
+  EXPECT_NEAR(h["obstacles"][2]["p"][2].get<double>(), -0.4, 1e-12);
+}
+
 // Found by bus_fuzz_test: a session_info whose strings are not UTF-8 made the
 // hello's JSON throw, which ended igms-viewer. Now the bytes become U+FFFD.
 TEST(SessionScene, StringsThatAreNotUtf8DoNotThrow) {

@@ -33,6 +33,23 @@ function primitive(shape) {
       g.rotateX(Math.PI / 2);
       return g;
     }
+    case 'capsule': {
+      // r111 has no capsule: its profile (two quarter circles joined by the side) turned about y, then onto z.
+      const r = shape.size[0], half = 0.5 * shape.size[1], points = [];
+      for (let k = 0; k <= 8; ++k) {
+        const a = -Math.PI / 2 + (k / 8) * (Math.PI / 2);
+        points.push(new THREE.Vector2(r * Math.cos(a), -half + r * Math.sin(a)));
+      }
+      for (let k = 0; k <= 8; ++k) {
+        const a = (k / 8) * (Math.PI / 2);
+        points.push(new THREE.Vector2(r * Math.cos(a), half + r * Math.sin(a)));
+      }
+      const g = new THREE.LatheBufferGeometry(points, 24);
+      g.rotateX(Math.PI / 2);
+      return g;
+    }
+    // The ground: 20 m square of its z = 0 plane (three.js's plane lies in x y, facing +z).
+    case 'plane': return new THREE.PlaneBufferGeometry(20, 20);
   }
   return null;
 }
@@ -130,9 +147,11 @@ export class RobotView {
       this.stickLines = null;
     }
     for (const o of hello.obstacles) {
-      const object = this.buildShape(o, 0x90a4ae, null);
+      // Ghosts (only monitored) are see-through; solid obstacles and the ground are not.
+      const object = this.buildShape(o, o.kind === 'plane' ? 0x78909c : 0x90a4ae, null);
       object.traverse((c) => {
-        if (c.material) { c.material.transparent = true; c.material.opacity = 0.55; }
+        if (c.material && !o.solid) { c.material.transparent = true; c.material.opacity = 0.55; }
+        if (c.material && o.kind === 'plane') c.material.side = THREE.DoubleSide;
       });
       object.name = 'obstacle:' + o.name;
       this.root.add(object);
