@@ -93,6 +93,7 @@ def summarise(exp, delay, jitter, loss, out, client_log):
         "cycles": int(m.group(1)) if m else None, "rate_hz": float(m.group(3)) if m else None,
         "max_force_step_N": float(m.group(5)) if m else None, "cut_to_bound": int(m.group(6)) if m else None,
         "state_age_p50_ms": float(a.group(1)) if a else None, "state_age_p99_ms": float(a.group(2)) if a else None,
+        "state_age_max_ms": float(a.group(3)) if a else None,
         "lowest_energy_mJ": round(float(a.group(4)) * 1000, 1) if a else None,
         "passivity_cycles": int(a.group(5)) if a else None,
         "server_lost": "server lost" in client_log,

@@ -35,7 +35,14 @@ def main():
             check(r["rate_hz"] is not None and r["rate_hz"] >= 950, f"servo rate {r['rate_hz']} Hz >= 950 Hz")
             check(r["max_force_step_N"] is not None and r["max_force_step_N"] <= 1.0 + 1e-9,
                   f"largest force step {r['max_force_step_N']} N <= 1 N")
-            check(not r["server_lost"], "the server was never declared lost")
+            # Lost means no state for 50 ms. The path alone never does that (its delay varies by the jitter
+            # at most); a stall of the whole machine can, and then declaring it is right: a clean-clone CI
+            # run on a loaded 2-core VM saw it once, on the pull 20 ms away. Such a gap shows in the oldest
+            # state the client held (the arrival gap plus the path's shortest delay).
+            stalled = r["state_age_max_ms"] is not None and r["state_age_max_ms"] >= r["delay_ms"] - r["jitter_ms"] + 50
+            check(not r["server_lost"] or stalled,
+                  f"the server was declared lost only after states stopped for 50 ms (oldest state held "
+                  f"{r['state_age_max_ms']} ms)")
             # A pile-up (states queued behind each other, e.g. LCM's 30-deep queue read oldest first) ages every
             # state: it shows in the median. Measured idle: p50 1.1 ms at 0 ms, 13.2 at 20 +-10 (the newest of
             # jittered states), 4.2 at 5 +-2.5. A stall of the whole machine ages only the states around it: the
