@@ -18,5 +18,7 @@ inline constexpr const char* kEditedTrajectory = "IGMS_TRAJECTORY_EDITED";  // t
 inline constexpr const char* kClientStatus = "IGMS_CLIENT_STATUS";     // client_status_t
 inline constexpr const char* kSessionInfo = "IGMS_SESSION_INFO";       // session_info_t
 inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartbeat_t
+// Scenes with contact: points, normals and forces, at most --contact-rate Hz.
+inline constexpr const char* kContacts = "IGMS_CONTACTS";              // contacts_t
 
 }  // namespace igms::channels

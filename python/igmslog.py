@@ -6,6 +6,7 @@
     log.states["t"], log.states["q"]          # (N,) simulated time, (N, nq)
     log.inputs["tip_position"]                # (M, 3) haptic inputs, by arrival
     log.hands["client"], log.hands["force"]   # (H,), (H, 3): one row per hand per state (several people at once)
+    log.contacts["seq"], log.contacts["force"]  # (C,), (C, 3): one row per contact per contacts_t (IGMS_CONTACTS)
     log.client_status[-1].rate_hz             # the decoded status messages, in order
     log.counts, log.undecodable               # events per channel; messages that did not decode
 
@@ -23,7 +24,7 @@ import tempfile
 import lcm
 import numpy as np
 
-from igms import (client_status_t, haptic_input_t, robot_state_t, server_status_t,
+from igms import (client_status_t, contacts_t, haptic_input_t, robot_state_t, server_status_t,
                   session_info_t)
 
 STATE_CHANNELS = ("IGMS_ROBOT_STATE", "IGMS_ROBOT_STATE_TRUTH")
@@ -34,6 +35,7 @@ TYPES = {
     "IGMS_HAPTIC_INPUT": haptic_input_t,
     "IGMS_SERVER_STATUS": server_status_t,
     "IGMS_CLIENT_STATUS": client_status_t,
+    "IGMS_CONTACTS": contacts_t,
 }
 
 
@@ -47,6 +49,8 @@ class SessionLog:
         self.states = {}
         self.inputs = {}
         self.hands = {}
+        self.contacts = {}
+        self.contact_messages = {}
 
 
 def events(path):
@@ -111,6 +115,13 @@ def read(path):
                  s.hand_torque[h], s.hand_point[h]) for s in states for h in range(s.nhands)]
         names = ("seq", "t", "client", "input_seq", "mode", "force", "torque", "point")
         out.hands = {n: np.array([r[i] for r in rows]) for i, n in enumerate(names)}
+    contacts = sorted(raw["IGMS_CONTACTS"], key=lambda c: c.seq)
+    if contacts:
+        out.contact_messages = _columns(contacts, ("seq", "sim_time", "total", "ncontacts", "dropped"))
+        rows = [(c.seq, c.sim_time, c.link_a[k], c.link_b[k], c.point[k], c.normal[k], c.force[k], c.distance[k])
+                for c in contacts for k in range(c.ncontacts)]
+        names = ("seq", "t", "link_a", "link_b", "point", "normal", "force", "distance")
+        out.contacts = {n: np.array([r[i] for r in rows]) for i, n in enumerate(names)}
     inputs = raw["IGMS_HAPTIC_INPUT"]
     if inputs:
         out.inputs = _columns(inputs, ("seq", "utime", "mode", "client_id", "tip_position"))

@@ -67,6 +67,15 @@ void BusView::handle(const std::string& channel, const void* data, size_t size, 
     take(data, size, now, &client_, &client_time_, &have_client_);
   } else if (channel == channels::kHapticInput) {
     take(data, size, now, &input_, &input_time_, &have_input_);
+  } else if (channel == channels::kContacts) {
+    contacts_t m;
+    if (!safeDecode(data, size, &m) || m.ncontacts < 0 || m.ncontacts > kMaxContacts) {
+      ++undecodable_;
+      return;
+    }
+    contacts_ = std::move(m);
+    contacts_time_ = now;
+    have_contacts_ = true;
   } else if (channel == channels::kSessionInfo) {
     session_info_t m;
     if (!safeDecode(data, size, &m)) {
@@ -84,8 +93,8 @@ void BusView::handle(const std::string& channel, const void* data, size_t size, 
 
 void BusView::clear() {
   std::lock_guard<std::mutex> lock(mutex_);
-  have_state_ = have_server_ = have_client_ = have_input_ = false;
-  state_time_ = server_time_ = client_time_ = input_time_ = -1e9;
+  have_state_ = have_server_ = have_client_ = have_input_ = have_contacts_ = false;
+  state_time_ = server_time_ = client_time_ = input_time_ = contacts_time_ = -1e9;
 }
 
 bool BusView::takeSession(session_info_t* info) {
@@ -177,6 +186,25 @@ std::string BusView::frameJson(double now, const std::string& extra) {
     s += ",\"attach_link\":"; appendString(s, in.attach_link);
     s += ",\"attach_point\":"; appendArray(s, in.attach_point, 3);
     s += "}";
+  }
+  // The contacts: points and forces (on side b, N) as flat [x y z ...] arrays.
+  if (have_contacts_ && now - contacts_time_ < kContactsFor) {
+    const contacts_t& c = contacts_;
+    s += ",\"contacts\":{\"seq\":" + std::to_string(c.seq) + ",\"total\":" + std::to_string(c.total) + ",\"p\":[";
+    for (int k = 0; k < c.ncontacts; ++k) {
+      for (int i = 0; i < 3; ++i) {
+        if (k || i) s += ',';
+        append(s, "%.4f", c.point[static_cast<size_t>(k)][static_cast<size_t>(i)]);
+      }
+    }
+    s += "],\"f\":[";
+    for (int k = 0; k < c.ncontacts; ++k) {
+      for (int i = 0; i < 3; ++i) {
+        if (k || i) s += ',';
+        append(s, "%.4g", c.force[static_cast<size_t>(k)][static_cast<size_t>(i)]);
+      }
+    }
+    s += "]}";
   }
   s += extra;
   s += '}';

@@ -1,5 +1,5 @@
 // The session as the page sees it: the newest robot state, server status,
-// client status, haptic input and session info, from the bus or from a log,
+// client status, haptic input, contacts and session info, from the bus or from a log,
 // turned into one frame (JSON) at display rate. Messages are untrusted: each
 // is decoded with safeDecode, and one that does not decode (or whose sizes
 // disagree) is counted and dropped.
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "igms/client_status_t.hpp"
+#include "igms/contacts_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
@@ -21,6 +22,10 @@ class BusView {
  public:
   // A server or client is "lost" when nothing came from it for this long.
   static constexpr double kLostAfter = 1.0;  // s
+  // Contacts older than this are not drawn (the server sends them at --contact-rate).
+  static constexpr double kContactsFor = 0.25;  // s
+  // A contacts message holding more is refused (the server sends at most 512).
+  static constexpr int kMaxContacts = 4096;
 
   // `now`: the feed's clock (wall time live, log time in a replay), s.
   void handle(const std::string& channel, const void* data, size_t size, double now);
@@ -46,10 +51,11 @@ class BusView {
   client_status_t client_{};
   haptic_input_t input_{};
   session_info_t session_{};
-  bool have_state_ = false, have_server_ = false, have_client_ = false, have_input_ = false;
+  contacts_t contacts_{};
+  bool have_state_ = false, have_server_ = false, have_client_ = false, have_input_ = false, have_contacts_ = false;
   bool new_session_ = false;
   std::string session_key_;
-  double state_time_ = -1e9, server_time_ = -1e9, client_time_ = -1e9, input_time_ = -1e9;
+  double state_time_ = -1e9, server_time_ = -1e9, client_time_ = -1e9, input_time_ = -1e9, contacts_time_ = -1e9;
   int64_t undecodable_ = 0, states_ = 0;
 };
 

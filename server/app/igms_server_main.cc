@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
   app.add_option("--output-dir", o.commands.output_dir, "SAVE_TRAJECTORY only into this folder (default: .)")
       ->check(CLI::ExistingDirectory);
+  app.add_option("--contact-rate", o.contact_rate,
+                 "Hz at most of the contacts channel IGMS_CONTACTS, scenes with contact only (0: none)")
+      ->check(igms::cli::nonNegative("HZ"));
   auto* faults = app.add_option_group("fault injection", "on the published states, to test a client's fallbacks");
   faults->add_option("--fault-drop", o.fault_drop, "fraction of states not published")->check(CLI::Range(0.0, 1.0));
   faults->add_option("--fault-burst-ms", o.fault_burst_ms, "every second, no states for this long")

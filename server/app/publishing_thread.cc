@@ -16,6 +16,7 @@ void PublishingThread::pump() {
   status_.pumpSessionInfo();  // before any state: a log starts with it
   while (const Snapshot* s = ring_.beginRead()) {
     states_.publish(*s);
+    contacts_.publish(*s);
     ring_.endRead();
   }
   status_.pumpStatus(states_.stats());

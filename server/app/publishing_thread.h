@@ -8,6 +8,7 @@
 #include <atomic>
 #include <thread>
 
+#include "server/app/contact_publisher.h"
 #include "server/app/state_publisher.h"
 #include "server/app/status_reporter.h"
 #include "server/loop/snapshot.h"
@@ -16,8 +17,8 @@ namespace igms {
 
 class PublishingThread {
  public:
-  PublishingThread(SnapshotRing& ring, StatePublisher& states, StatusReporter& status)
-      : ring_(ring), states_(states), status_(status) {}
+  PublishingThread(SnapshotRing& ring, StatePublisher& states, ContactPublisher& contacts, StatusReporter& status)
+      : ring_(ring), states_(states), contacts_(contacts), status_(status) {}
   ~PublishingThread() { finish(); }
   void start(bool threaded);
   // Publishes what the ring holds, and the session info and status when due.
@@ -28,6 +29,7 @@ class PublishingThread {
  private:
   SnapshotRing& ring_;
   StatePublisher& states_;
+  ContactPublisher& contacts_;
   StatusReporter& status_;
   std::atomic<bool> done_{false};
   bool finished_ = false;

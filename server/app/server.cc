@@ -54,17 +54,23 @@ class BusThread {
 // Everything one scene runs with, composed.
 struct SceneParts {
   SceneParts(lcm::LCM& bus, BusReceiver& receiver, std::unique_ptr<Simulation> s, const ServerOptions& o)
-      : sim(std::move(s)), ring(sim->model(), 512),
+      : sim(std::move(s)),
+        contact_rows(o.contact_rate > 0 && sim->contactModel() ? sim->contactModel()->capacity() : 0),
+        ring(sim->model(), 512, contact_rows),
         states(bus, sim->model(), sim->scene().obstacles, FaultInjection{o.fault_drop, o.fault_burst_ms, o.fault_delay_us},
                o.quiet),
+        contacts(bus, contact_rows),
         status(bus, *sim, o.clock == ServerOptions::Clock::Lockstep ? "lockstep" : "realtime", receiver, loop, o.quiet,
                o.clock == ServerOptions::Clock::Lockstep ? Stepper::kLockstepQuietS : o.input_hold),
-        publishing(ring, states, status),
-        stepper(*sim, receiver.hands(), ring, loop, o.clock == ServerOptions::Clock::Lockstep, o.input_hold) {}
+        publishing(ring, states, contacts, status),
+        stepper(*sim, receiver.hands(), ring, loop, o.clock == ServerOptions::Clock::Lockstep, o.input_hold,
+                contact_rows > 0 ? contactPeriodSteps(sim->scene().rate_hz, o.contact_rate) : 0) {}
   std::unique_ptr<Simulation> sim;
   LoopStatus loop;
+  int contact_rows;
   SnapshotRing ring;
   StatePublisher states;
+  ContactPublisher contacts;
   StatusReporter status;
   PublishingThread publishing;
   Stepper stepper;

@@ -6,8 +6,9 @@
 //   Stepper (loop/)            the newest input, one Simulation step, its snapshot into the ring
 //   applyCommand (loop/)       commands between steps, validated, rejections counted
 //   StatePublisher (app/)      snapshots -> robot_state_t, the FCL obstacle check, fault injection
+//   ContactPublisher (app/)    snapshots' contacts -> contacts_t, at --contact-rate
 //   StatusReporter (app/)      server_status_t and session_info_t
-//   PublishingThread (app/)    drains the ring into the two above
+//   PublishingThread (app/)    drains the ring into the three above
 // Threads: the loop (this one: steps on absolute deadlines, or one step per
 // input in lockstep, where it also receives and publishes), the bus thread
 // (realtime only) and the publishing thread (realtime only).
@@ -36,6 +37,7 @@ struct ServerOptions {
   double fault_drop = 0.0;       // fraction of states not published
   double fault_burst_ms = 0.0;   // every second, no states for this long
   double fault_delay_us = 0.0;   // every state published this much later
+  double contact_rate = 100.0;   // Hz at most on IGMS_CONTACTS (0: none; scenes with contact only)
 };
 
 // Runs until stopped (stop flag, SHUTDOWN command, duration, or divergence).

@@ -6,6 +6,7 @@
 
 #include <semaphore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <vector>
 
@@ -15,6 +16,16 @@
 
 namespace igms {
 
+// One contact as published: the link on each side (-1: the world), where, and the force.
+struct PublishedContact {
+  int32_t link_a = -1, link_b = -1;
+  Vector3 point = Vector3::Zero(), normal = Vector3::UnitZ(), force = Vector3::Zero();  // force: on b, N
+  double distance = 0.0;
+};
+// The contacts one state carries at most: what one datagram holds with room to
+// spare (contacts_t is 88 bytes a contact); the rest is counted in `total`.
+constexpr int kMaxPublishedContacts = 512;
+
 struct Snapshot {
   int64_t seq = 0;
   double sim_time = 0.0;
@@ -23,19 +34,26 @@ struct Snapshot {
   StepOutcome outcome;
   std::vector<double> q, v, qdd, tau;
   std::vector<SE3> link_poses;
-  void size(const Model& m) {
+  // Filled on the steps the contact channel is due (contacts_due), else left stale.
+  bool contacts_due = false;
+  int ncontacts = 0, contacts_total = 0;
+  int64_t contacts_dropped = 0;
+  std::vector<PublishedContact> contacts;
+  void size(const Model& m, int contact_rows) {
     q.assign(static_cast<size_t>(m.nq), 0.0);
     v.assign(static_cast<size_t>(m.nv), 0.0);
     qdd.assign(static_cast<size_t>(m.nv), 0.0);
     tau.assign(static_cast<size_t>(m.nv), 0.0);
     link_poses.assign(m.frames.size(), SE3::Identity());
+    contacts.assign(static_cast<size_t>(std::min(contact_rows, kMaxPublishedContacts)), PublishedContact{});
   }
 };
 
 class SnapshotRing {
  public:
-  SnapshotRing(const Model& m, size_t capacity) : slots_(capacity) {
-    for (auto& s : slots_) s.size(m);
+  // contact_rows: the contact buffer's capacity (0 for a scene without contact).
+  SnapshotRing(const Model& m, size_t capacity, int contact_rows) : slots_(capacity) {
+    for (auto& s : slots_) s.size(m, contact_rows);
     sem_init(&written_, 0, 0);
   }
   ~SnapshotRing() { sem_destroy(&written_); }
@@ -71,8 +89,28 @@ class SnapshotRing {
   sem_t written_;
 };
 
+// The contacts of the last step into the snapshot (no allocation: at most its rows).
+inline void takeContacts(const Simulation& sim, Snapshot& s) {
+  const ContactSet& set = sim.contacts();
+  const ContactModel* cm = sim.contactModel();
+  s.contacts_total = set.n;
+  s.contacts_dropped = set.dropped;
+  s.ncontacts = std::min(set.n, static_cast<int>(s.contacts.size()));
+  const double inv_dt = 1.0 / sim.scene().dt;
+  for (int k = 0; k < s.ncontacts; ++k) {
+    const Contact& c = set[k];
+    PublishedContact& p = s.contacts[static_cast<size_t>(k)];
+    p.link_a = cm ? cm->geoms()[static_cast<size_t>(c.geom_a)].frame : -1;
+    p.link_b = cm ? cm->geoms()[static_cast<size_t>(c.geom_b)].frame : -1;
+    p.point = c.point;
+    p.normal = c.normal;
+    p.force = c.impulse * inv_dt;
+    p.distance = c.distance;
+  }
+}
+
 // Fills a snapshot from the simulation (no allocation: sizes match).
-inline void takeSnapshot(Simulation& sim, int64_t utime, int32_t step_us, Snapshot& s) {
+inline void takeSnapshot(Simulation& sim, int64_t utime, int32_t step_us, bool contacts_due, Snapshot& s) {
   s.seq = sim.steps();
   s.sim_time = sim.time();
   s.utime = utime;
@@ -86,6 +124,8 @@ inline void takeSnapshot(Simulation& sim, int64_t utime, int32_t step_us, Snapsh
   }
   const auto& poses = sim.linkPoses();
   for (size_t f = 0; f < poses.size(); ++f) s.link_poses[f] = poses[f];
+  s.contacts_due = contacts_due && !s.contacts.empty();
+  if (s.contacts_due) takeContacts(sim, s);
 }
 
 }  // namespace igms

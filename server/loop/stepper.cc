@@ -59,7 +59,8 @@ void Stepper::snapshot(int32_t step_us) {
     ++status_.ring_drops;
     return;
   }
-  takeSnapshot(sim_, last_snapshot_us_, step_us, *slot);
+  const bool contacts_due = contact_every_ > 0 && sim_.steps() % contact_every_ == 0;
+  takeSnapshot(sim_, last_snapshot_us_, step_us, contacts_due, *slot);
   ring_.endWrite();
 }
 

@@ -23,9 +23,11 @@ class Stepper {
   // Lockstep: an input waits at most this long for the other clients' before its step runs.
   static constexpr double kLockstepWaitS = 0.02;
 
+  // contact_every: the contacts go with every this many steps' snapshot (0: never).
   Stepper(Simulation& sim, const HandSlots& hands, SnapshotRing& ring, LoopStatus& status, bool lockstep,
-          double input_hold_s)
-      : sim_(sim), hands_(hands), ring_(ring), status_(status), lockstep_(lockstep), input_hold_(input_hold_s) {}
+          double input_hold_s, int contact_every)
+      : sim_(sim), hands_(hands), ring_(ring), status_(status), lockstep_(lockstep), input_hold_(input_hold_s),
+        contact_every_(contact_every) {}
 
   // An input arrived that no step has consumed yet.
   bool inputPending() const;
@@ -44,6 +46,7 @@ class Stepper {
   LoopStatus& status_;
   const bool lockstep_;
   const double input_hold_;
+  const int contact_every_;
   std::array<uint64_t, kMaxHands> consumed_version_{};
   double pending_since_ = -1.0;   // lockstep: when an input was first seen waiting
   int64_t last_snapshot_us_ = 0;  // wall time of the last state

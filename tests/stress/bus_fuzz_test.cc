@@ -24,6 +24,7 @@
 #include "channels.h"
 #include "igms/client_status_t.hpp"
 #include "igms/command_t.hpp"
+#include "igms/contacts_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/heartbeat_t.hpp"
 #include "igms/robot_state_t.hpp"
@@ -136,6 +137,19 @@ server_status_t validStatus() {
   s.nlinks = 2;
   s.link_names = {"a", "b"};
   return s;
+}
+
+contacts_t validContacts() {
+  contacts_t m{};
+  m.seq = 10;
+  m.total = m.ncontacts = 2;
+  m.link_a = {-1, 3};
+  m.link_b = {2, 4};
+  m.point = {{0.1, 0, 0}, {0.2, 0, 0.3}};
+  m.normal = {{0, 0, 1}, {1, 0, 0}};
+  m.force = {{0, 0, 5}, {2, 0, 0}};
+  m.distance = {-1e-4, 0};
+  return m;
 }
 
 client_status_t validClientStatus() {
@@ -261,6 +275,7 @@ TEST(BusFuzz, NoMessageStopsAProgram) {
       {channels::kClientStatus, encode(validClientStatus()), "viewer, spy, logger", decoder(client_status_t{})},
       {channels::kSessionInfo, encode(validSession()), "viewer, spy, logger", decoder(session_info_t{})},
       {channels::kHeartbeat, encode(heartbeat_t{}), "spy, logger", decoder(heartbeat_t{})},
+      {channels::kContacts, encode(validContacts()), "viewer, spy, logger", decoder(contacts_t{})},
   };
   std::map<std::string, int64_t> sent, undecodable;  // per channel
   // igms-spy watches the whole burst and must end with a snapshot.
@@ -311,7 +326,7 @@ TEST(BusFuzz, NoMessageStopsAProgram) {
   ASSERT_NE(at, std::string::npos) << status;
   int64_t viewer_expected = 0;
   for (const char* c : {channels::kRobotState, channels::kServerStatus, channels::kClientStatus,
-                        channels::kHapticInput, channels::kSessionInfo})
+                        channels::kHapticInput, channels::kSessionInfo, channels::kContacts})
     viewer_expected += undecodable[c];
   EXPECT_GE(std::atol(status.c_str() + at + 18), static_cast<long>(0.95 * static_cast<double>(viewer_expected)))
       << status;

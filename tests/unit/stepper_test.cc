@@ -14,9 +14,10 @@ namespace igms::test {
 namespace {
 
 struct Rig {
-  explicit Rig(bool lockstep)
-      : sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml")), ring(sim.model(), 4),
-        stepper(sim, hands, ring, status, lockstep, /*input_hold_s=*/0.05) {}
+  explicit Rig(bool lockstep, const std::string& scene = "puma_wall.yaml", int contact_every = 0)
+      : sim(loadScene(sourceDir() + "/scenes/" + scene)),
+        ring(sim.model(), 4, sim.contactModel() ? sim.contactModel()->capacity() : 0),
+        stepper(sim, hands, ring, status, lockstep, /*input_hold_s=*/0.05, contact_every) {}
   void send(int64_t seq, double age_s, int slot = 0, int32_t client = 7) {
     TimedInput in;
     in.input.seq = seq;
@@ -54,6 +55,39 @@ TEST(Stepper, RealtimeHoldsAnInputForItsHoldTimeThenStepsWithout) {
   EXPECT_EQ(rig.consumedSeq(), -1) << "a stale input acts no more";
   EXPECT_EQ(rig.status.steps.load(), 4);
   EXPECT_EQ(rig.status.consumed_inputs.load(), 2);
+}
+
+// The contacts ride on every contact_every-th step's snapshot: the 1 kg box at
+// rest on the 20 degree slope is held by forces that sum to its weight.
+TEST(Stepper, SnapshotsCarryTheContactsOnTheStepsTheyAreDue) {
+  Rig rig(/*lockstep=*/true, "box_slope.yaml", /*contact_every=*/3);
+  const int box = rig.sim.model().frameIndex("box");
+  ASSERT_GE(box, 0);
+  int due = 0;
+  for (int k = 1; k <= 9; ++k) {
+    ASSERT_TRUE(rig.stepper.step());
+    const Snapshot* s = rig.ring.beginRead();
+    ASSERT_NE(s, nullptr);
+    EXPECT_EQ(s->contacts_due, s->seq % 3 == 0) << "step " << s->seq;
+    if (s->contacts_due) {
+      ++due;
+      EXPECT_EQ(s->contacts_total, rig.sim.contacts().n);
+      ASSERT_GE(s->ncontacts, 1);
+      Vector3 on_box = Vector3::Zero();
+      for (int c = 0; c < s->ncontacts; ++c) {
+        const PublishedContact& p = s->contacts[static_cast<size_t>(c)];
+        ASSERT_TRUE(p.link_a == box || p.link_b == box);
+        EXPECT_TRUE(p.link_a == -1 || p.link_b == -1) << "the other side is the ground";
+        EXPECT_NEAR(p.normal.norm(), 1.0, 1e-12);
+        on_box += p.link_b == box ? p.force : Vector3(-p.force);
+      }
+      EXPECT_NEAR(on_box.x(), 0.0, 1e-6);
+      EXPECT_NEAR(on_box.y(), 0.0, 1e-6);
+      EXPECT_NEAR(on_box.z(), 9.81, 1e-3) << "the slope carries the box's weight";
+    }
+    rig.ring.endRead();
+  }
+  EXPECT_EQ(due, 3);
 }
 
 TEST(Stepper, LockstepUsesEachInputWhateverItsAgeAndCountsRingDrops) {

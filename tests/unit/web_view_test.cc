@@ -245,6 +245,52 @@ TEST(BusView, FramesFromTheNewestStateAndLostPeers) {
   EXPECT_EQ(nlohmann::json::parse(view.frameJson(12.0, ""))["seq"], 6);
 }
 
+// The contacts ride in the frame as flat point and force arrays while fresh;
+// a malformed contacts message is counted and changes nothing.
+TEST(BusView, ContactsInTheFrameWhileFresh) {
+  igms::web::BusView view;
+  const std::vector<uint8_t> a = encodedState(5, 2);
+  view.handle(igms::channels::kRobotState, a.data(), a.size(), 10.0);
+  igms::contacts_t c{};
+  c.seq = 5;
+  c.total = 3;
+  c.ncontacts = 2;
+  c.link_a = {-1, -1};
+  c.link_b = {0, 1};
+  c.point = {{0.1, 0.2, 0.0}, {0.3, 0.4, 0.0}};
+  c.normal = {{0, 0, 1}, {0, 0, 1}};
+  c.force = {{0, 0, 4.905}, {0.5, 0, 4.905}};
+  c.distance = {-1e-4, 0.0};
+  std::vector<uint8_t> cb(static_cast<size_t>(c.getEncodedSize()));
+  c.encode(cb.data(), 0, static_cast<int>(cb.size()));
+  view.handle(igms::channels::kContacts, cb.data(), cb.size(), 10.0);
+  nlohmann::json f = nlohmann::json::parse(view.frameJson(10.1, ""));
+  ASSERT_TRUE(f.contains("contacts")) << f.dump();
+  EXPECT_EQ(f["contacts"]["total"], 3) << "more than sent: the total is the step's";
+  ASSERT_EQ(f["contacts"]["p"].size(), 6u);
+  ASSERT_EQ(f["contacts"]["f"].size(), 6u);
+  EXPECT_DOUBLE_EQ(f["contacts"]["p"][3].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(f["contacts"]["f"][3].get<double>(), 0.5);
+  // Junk and a count beyond what any server sends: counted, the last good contacts kept.
+  const std::vector<uint8_t> junk(60, 0xff);
+  view.handle(igms::channels::kContacts, junk.data(), junk.size(), 10.1);
+  c.ncontacts = igms::web::BusView::kMaxContacts + 1;
+  c.link_a.assign(static_cast<size_t>(c.ncontacts), -1);
+  c.link_b.assign(static_cast<size_t>(c.ncontacts), 0);
+  c.point.assign(static_cast<size_t>(c.ncontacts), {0, 0, 0});
+  c.normal = c.force = c.point;
+  c.distance.assign(static_cast<size_t>(c.ncontacts), 0.0);
+  std::vector<uint8_t> big(static_cast<size_t>(c.getEncodedSize()));
+  c.encode(big.data(), 0, static_cast<int>(big.size()));
+  view.handle(igms::channels::kContacts, big.data(), big.size(), 10.1);
+  EXPECT_EQ(view.undecodable(), 2);
+  f = nlohmann::json::parse(view.frameJson(10.2, ""));
+  EXPECT_EQ(f["contacts"]["p"].size(), 6u);
+  // Stale: no longer drawn.
+  f = nlohmann::json::parse(view.frameJson(10.0 + igms::web::BusView::kContactsFor + 0.01, ""));
+  EXPECT_FALSE(f.contains("contacts"));
+}
+
 // --- the web server over real sockets ---
 
 // Opens /ws (with `query`), sends `text`, waits for the server's first

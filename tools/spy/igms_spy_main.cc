@@ -22,6 +22,7 @@
 #include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
 #include "igms/command_t.hpp"
+#include "igms/contacts_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/heartbeat_t.hpp"
 #include "igms/robot_state_t.hpp"
@@ -75,6 +76,32 @@ IGMS_SEQ_TYPE(client_status_t, "%s %.0f Hz rtt p50/p99 %.0f/%.0f us misses %lld 
 IGMS_SEQ_TYPE(command_t, "kind %d text '%s'", int{m.kind}, m.text.c_str())
 IGMS_SEQ_TYPE(heartbeat_t, "%s pid %d", m.process.c_str(), m.pid)
 
+// The contacts: how many, the deepest overlap and the largest force.
+double largestForce(const igms::contacts_t& m) {
+  double f = 0.0;
+  for (int k = 0; k < m.ncontacts; ++k)
+    f = std::max(f, std::sqrt(m.force[k][0] * m.force[k][0] + m.force[k][1] * m.force[k][1] + m.force[k][2] * m.force[k][2]));
+  return f;
+}
+double deepest(const igms::contacts_t& m) {
+  double d = 0.0;
+  for (int k = 0; k < m.ncontacts; ++k) d = std::min(d, m.distance[k]);
+  return -d;
+}
+// Sent every few steps: its seq is the step's, so gaps are not losses (seq -1).
+template <>
+bool summarize<igms::contacts_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::contacts_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "contacts_t";
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "t=%.3f contacts %d (sent %d) deepest %.2f mm largest |f| %.2f N dropped %lld",
+                m.sim_time, m.total, m.ncontacts, deepest(m) * 1e3, largestForce(m), static_cast<long long>(m.dropped));
+  *line = buf;
+  *seq = -1;
+  return true;
+}
+
 template <>
 bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
   igms::session_info_t m;
@@ -117,7 +144,7 @@ class Spy {
   explicit Spy(const std::string& filter) : filter_(filter) {
     decoders_ = {decoder<igms::robot_state_t>(), decoder<igms::haptic_input_t>(), decoder<igms::server_status_t>(),
                  decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
-                 decoder<igms::session_info_t>(), decoder<igms::trajectory_t>()};
+                 decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>()};
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     if (!std::regex_match(channel, filter_)) return;

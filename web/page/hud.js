@@ -17,8 +17,8 @@ export class Hud {
     $('device-controls').hidden = role !== 'device';
     $('help').textContent = role === 'device'
       ? 'drag a link: push (wheel: deeper / back) · shift-drag: pull (+alt: turn it) · right-drag: orbit · ' +
-        'space pause/resume · s step · r reset · w save · v view'
-      : 'drag: orbit · right-drag: pan · wheel: zoom · v: reset view';
+        'space pause/resume · s step · r reset · w save · v view · c contacts'
+      : 'drag: orbit · right-drag: pan · wheel: zoom · v: reset view · c: contacts';
   }
 
   hello(hello) {
@@ -70,6 +70,7 @@ export class Hud {
     const magnitude = rendered ? Math.hypot(...rendered) : 0;
     $('device-force').textContent = fixed(magnitude, 2) + ' N';
     $('force-fill').style.width = Math.min(100, 100 * magnitude / (limit || 1)).toFixed(1) + '%';
+    $('contacts').textContent = f.contacts ? String(f.contacts.total) : '–';
     $('banner-server').hidden = !f.server_lost;
     $('banner-client').hidden = !f.client_lost;
   }

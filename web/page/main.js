@@ -3,11 +3,12 @@
 // the session's token in the URL the page is also the haptic device.
 //
 // window.igms exposes the page's state for tests and for the curious:
-// the last frame and hello, frames drawn, the drawn link positions, and
-// screen points on a link (to script a mouse drag).
+// the last frame and hello, frames drawn, the drawn link positions, the
+// contacts drawn, and screen points on a link (to script a mouse drag).
 import * as THREE from '/three/build/three.module.js';
 import { OrbitControls } from '/three/examples/jsm/controls/OrbitControls.js';
 import { RobotView } from './robot_view.js';
+import { ContactView } from './contact_view.js';
 import { Hud } from './hud.js';
 import { MouseDevice } from './mouse_device.js';
 import { Timeline } from './timeline.js';
@@ -69,6 +70,7 @@ window.addEventListener('resize', () => {
 });
 
 const robot = new RobotView(scene);
+const contacts = new ContactView(scene);
 const hud = new Hud();
 const params = new URLSearchParams(window.location.search);
 const token = params.get('token');
@@ -109,6 +111,7 @@ window.addEventListener('keydown', (e) => {
   else if (e.key === 's') command('step');
   else if (e.key === 'r') command('reset');
   else if (e.key === 'w') command('save', { file: 'edited_trajectory.yaml' });
+  else if (e.key === 'c') { contacts.setVisible(!contacts.visible); hud.notice('contacts ' + (contacts.visible ? 'shown' : 'hidden')); }
 });
 
 function onMessage(text) {
@@ -170,6 +173,7 @@ function animate(now) {
     state.frameDirty = false;
     const f = state.frame;
     robot.update(f);
+    contacts.update(f);
     if (state.fitPending) { state.fitPending = false; robot.root.updateMatrixWorld(true); fitView(); }
     hud.frame(f);
     track(f);
@@ -240,6 +244,7 @@ window.igms = {
   state,
   send: (message) => socket && socket.readyState === WebSocket.OPEN && socket.send(message),
   robot,
+  contacts,
   camera,
   resetView,
   screenOf,
