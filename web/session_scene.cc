@@ -55,21 +55,35 @@ int stickParent(const Model& m, int f) {
   return pb >= 0 ? m.frameIndex(m.body_name[static_cast<size_t>(pb)]) : m.frameIndex(m.root_link);
 }
 
-json links(const Model& m, const std::function<std::string(const std::string&)>& serve) {
+// The file a frame's meshes are named relative to: its robot's (several robots
+// come from several files; the environment model's own source is the first's).
+std::string sourceOfFrame(const ResolvedScene& r, int f) {
+  const int part = r.model->partOfFrame(f);
+  const auto& robots = r.scene.robots;
+  if (part >= 0 && part < static_cast<int>(robots.size()) && !r.model->parts[static_cast<size_t>(part)].free_body)
+    return robots[static_cast<size_t>(part)].model_path;
+  return r.model->source;
+}
+
+json links(const ResolvedScene& r, const std::function<std::string(const std::string&)>& serve) {
+  const Model& m = *r.model;
   json out = json::array();
   for (int f = 0; f < static_cast<int>(m.frames.size()); ++f) {
     const Frame& frame = m.frame(f);
+    const std::string source = sourceOfFrame(r, f);
     json l = {{"name", frame.name}, {"parent", stickParent(m, f)}};
+    const int part = m.partOfFrame(f);
+    l["free_body"] = part >= 0 && m.parts[static_cast<size_t>(part)].free_body;
     json shapes = json::array();
     if (!frame.visuals.empty()) {
       for (const VisualShape& v : frame.visuals) {
-        json s = shape(v.geometry, m.source, serve);
+        json s = shape(v.geometry, source, serve);
         if (v.has_color) s["rgba"] = json::array({v.rgba[0], v.rgba[1], v.rgba[2], v.rgba[3]});
         shapes.push_back(s);
       }
       l["geometry"] = "visual";
     } else if (!frame.collisions.empty()) {
-      for (const CollisionShape& c : frame.collisions) shapes.push_back(shape(c, m.source, serve));
+      for (const CollisionShape& c : frame.collisions) shapes.push_back(shape(c, source, serve));
       l["geometry"] = "collision";
     } else {
       l["geometry"] = "none";
@@ -116,7 +130,7 @@ SessionScene describeSession(const session_info_t& info,
     const Model& m = *r.model;
     const Scene& s = r.scene;
     hello["scene"] = s.name;
-    hello["links"] = links(m, serve);
+    hello["links"] = links(r, serve);
     json obstacles = json::array();
     for (const Obstacle& o : s.obstacles) {
       json j = shape(o.shape, m.source, serve);

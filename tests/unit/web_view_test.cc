@@ -162,6 +162,24 @@ TEST(SessionScene, DescribesFreeBodiesSolidObstaclesAndTheGround) {
   EXPECT_NEAR(h["obstacles"][2]["p"][2].get<double>(), -0.4, 1e-12);
 }
 
+// Several robots from several files: each robot's meshes resolve against its
+// own file (the Go1's package:// meshes beside the PUMA once came out missing).
+TEST(SessionScene, EachRobotsMeshesResolveAgainstItsOwnFile) {
+  const std::string source = std::getenv("IGMS_SOURCE_DIR") ? std::getenv("IGMS_SOURCE_DIR") : ".";
+  const igms::web::SessionScene s = igms::web::describeSession(
+      sessionFor(fs::path(source) / "scenes/workcell.yaml"), [&](const std::string& p) { return "/mesh/" + p; });
+  ASSERT_EQ(s.error, "");
+  const nlohmann::json h = nlohmann::json::parse(s.hello_json);
+  int meshes = 0;
+  for (const auto& l : h["links"])
+    for (const auto& shape : l["shapes"]) {
+      if (shape["kind"] != "mesh") continue;
+      ++meshes;
+      EXPECT_FALSE(shape.contains("missing")) << l["name"] << ": " << shape.dump();
+    }
+  EXPECT_GE(meshes, 13) << "the Go1's trunk, hips, thighs and calves";
+}
+
 // Found by bus_fuzz_test: a session_info whose strings are not UTF-8 made the
 // hello's JSON throw, which ended igms-viewer. Now the bytes become U+FFFD.
 TEST(SessionScene, StringsThatAreNotUtf8DoNotThrow) {

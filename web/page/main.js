@@ -21,7 +21,8 @@ function softwareWebGL() {
   const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
   return !gl || (info && /SwiftShader|llvmpipe|Software/i.test(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)));
 }
-const renderer = new THREE.WebGLRenderer({ antialias: !softwareWebGL(), preserveDrawingBuffer: true });
+const SOFTWARE = softwareWebGL();
+const renderer = new THREE.WebGLRenderer({ antialias: !SOFTWARE, preserveDrawingBuffer: true });
 renderer.setPixelRatio(window.devicePixelRatio);
 renderer.setSize(window.innerWidth, window.innerHeight);
 container.appendChild(renderer.domElement);
@@ -69,7 +70,7 @@ window.addEventListener('resize', () => {
   renderer.setSize(window.innerWidth, window.innerHeight);
 });
 
-const robot = new RobotView(scene);
+const robot = new RobotView(scene, { software: SOFTWARE });
 const contacts = new ContactView(scene);
 const hud = new Hud();
 const params = new URLSearchParams(window.location.search);
@@ -85,7 +86,7 @@ const timeline = new Timeline(send);
 
 const state = {
   role: null, hello: null, frame: null, framesReceived: 0, framesDrawn: 0, helloCount: 0,
-  fps: 0, connected: false, maxForce: 0, maxOffNominal: 0,
+  fps: 0, connected: false, maxForce: 0, maxOffNominal: 0, software: SOFTWARE, renderScale: 1,
 };
 
 function command(kind, extra) {
@@ -166,6 +167,20 @@ function track(frame) {
   }
 }
 
+// A software renderer that cannot keep 30 frames a second draws at half the
+// resolution (a quarter of the pixels to shade) rather than drop frames:
+// decided once a session, after two slow seconds in a row.
+const MIN_FPS = 30;
+let slowSeconds = 0;
+function adaptResolution() {
+  if (!SOFTWARE || state.renderScale < 1) return;
+  slowSeconds = state.fps < MIN_FPS ? slowSeconds + 1 : 0;
+  if (slowSeconds < 2) return;
+  state.renderScale = 0.5;
+  renderer.setPixelRatio(0.5 * window.devicePixelRatio);
+  hud.notice('software rendering below ' + MIN_FPS + ' fps: drawing at half resolution');
+}
+
 let fpsCount = 0, fpsStart = performance.now();
 function animate(now) {
   requestAnimationFrame(animate);
@@ -198,6 +213,7 @@ function animate(now) {
     state.fps = (1000 * fpsCount) / (now - fpsStart);
     fpsCount = 0;
     fpsStart = now;
+    adaptResolution();
   }
 }
 requestAnimationFrame(animate);
@@ -241,6 +257,8 @@ function pointOnLink(index) {
 }
 
 window.igms = {
+  THREE,
+  renderer,
   state,
   send: (message) => socket && socket.readyState === WebSocket.OPEN && socket.send(message),
   robot,

@@ -12,6 +12,7 @@ import { OBJLoader } from '/three/examples/jsm/loaders/OBJLoader.js';
 export const NEWTONS_TO_METRES = 0.01;  // force arrows: 1 cm per newton
 const MAX_PATH_POINTS = 20000;
 const COLLISION_COLOUR = new THREE.Color(0xff1744);
+const NO_GLOW = new THREE.Color(0);
 
 function toColour(rgba, fallback) {
   return rgba ? new THREE.Color(rgba[0], rgba[1], rgba[2]) : new THREE.Color(fallback);
@@ -54,9 +55,14 @@ function primitive(shape) {
   return null;
 }
 
+// Many free bodies (a pile): coarser spheres, so a software renderer keeps its frame rate.
+const MANY_BODIES = 50;
+
 export class RobotView {
-  constructor(scene) {
+  // software: the page renders without a GPU (free bodies then get the cheaper Lambert shading).
+  constructor(scene, { software = false } = {}) {
     this.scene = scene;
+    this.software = software;
     this.root = new THREE.Group();
     scene.add(this.root);
     this.links = [];          // per link: {name, group, materials, pickables}
@@ -131,6 +137,10 @@ export class RobotView {
     this.hello = hello;
     this.traced = hello.traced_link ?? -1;
     this.tipRadius = hello.push ? hello.push.tip_radius : 0.01;
+    // Free bodies of one shape and colour share one geometry and one material (a pile is
+    // hundreds of the same sphere).
+    this.shared = new Map();
+    this.manyBodies = hello.links.filter((l) => l.free_body).length > MANY_BODIES;
     hello.links.forEach((link, index) => this.links.push(this.buildLink(link, index)));
     // Sticks wherever a link has no geometry of its own: parent origin to link origin.
     this.sticks = [];
@@ -147,8 +157,13 @@ export class RobotView {
       this.stickLines = null;
     }
     for (const o of hello.obstacles) {
-      // Ghosts (only monitored) are see-through; solid obstacles and the ground are not.
-      const object = this.buildShape(o, o.kind === 'plane' ? 0x78909c : 0x90a4ae, null);
+      // Ghosts (only monitored) are see-through; solid obstacles and the ground are not. The
+      // ground fills most of the screen: a software renderer shades it per vertex (Lambert),
+      // which costs it a fraction of the per-pixel shading.
+      const object = o.kind === 'plane' && this.software
+        ? new THREE.Mesh(primitive(o), new THREE.MeshLambertMaterial({ color: 0x78909c }))
+        : this.buildShape(o, o.kind === 'plane' ? 0x78909c : 0x90a4ae, null);
+      if (object.isMesh) place(object, o);
       object.traverse((c) => {
         if (c.material && !o.solid) { c.material.transparent = true; c.material.opacity = 0.55; }
         if (c.material && o.kind === 'plane') c.material.side = THREE.DoubleSide;
@@ -171,11 +186,37 @@ export class RobotView {
     group.matrixAutoUpdate = false;
     const entry = { name: link.name, group, materials: [], index };
     for (const shape of link.shapes) {
-      const object = this.buildShape(shape, link.geometry === 'collision' ? 0xb0bec5 : 0xcfd8dc, entry);
+      const colour = link.geometry === 'collision' ? 0xb0bec5 : 0xcfd8dc;
+      const object = link.free_body && shape.kind !== 'mesh' ? this.buildSharedShape(shape, colour, entry)
+                                                               : this.buildShape(shape, colour, entry);
       group.add(object);
     }
     this.root.add(group);
     return entry;
+  }
+
+  // A free body's primitive: geometry and material shared with every body of
+  // the same shape and colour (its material is not highlighted on collision).
+  buildSharedShape(shape, fallbackColour, entry) {
+    const key = JSON.stringify([shape.kind, shape.size, shape.rgba || fallbackColour]);
+    let parts = this.shared.get(key);
+    if (!parts) {
+      const colour = toColour(shape.rgba, fallbackColour);
+      const material = this.software ? new THREE.MeshLambertMaterial({ color: colour })
+                                     : new THREE.MeshStandardMaterial({ color: colour, metalness: 0.1, roughness: 0.7 });
+      if (shape.rgba && shape.rgba[3] < 1) { material.transparent = true; material.opacity = shape.rgba[3]; }
+      const geometry = shape.kind === 'sphere' && this.manyBodies
+        ? new THREE.SphereBufferGeometry(shape.size[0], 12, 8) : primitive(shape);
+      parts = { geometry, material };
+      this.shared.set(key, parts);
+    }
+    const holder = new THREE.Group();
+    place(holder, shape);
+    const mesh = new THREE.Mesh(parts.geometry, parts.material);
+    mesh.userData.link = entry.index;
+    this.pickables.push(mesh);
+    holder.add(mesh);
+    return holder;
   }
 
   // One shape in its parent's frame. Meshes load asynchronously into a group
@@ -270,7 +311,7 @@ export class RobotView {
     this.links.forEach((l, i) => {
       const hit = frame.in_collision && frame.closest_link === i;
       for (const material of l.materials) {
-        if (material.emissive) material.emissive.copy(hit ? COLLISION_COLOUR : new THREE.Color(0));
+        if (material.emissive) material.emissive.copy(hit ? COLLISION_COLOUR : NO_GLOW);
       }
     });
     this.appendExecuted(frame, poses);
@@ -289,7 +330,10 @@ export class RobotView {
       if (d < 1e-4) return;
     }
     if (this.executedCount >= MAX_PATH_POINTS) return;
-    a.setXYZ(this.executedCount++, x[0], x[1], x[2]);
+    a.setXYZ(this.executedCount, x[0], x[1], x[2]);
+    // Upload the new point only, not the whole 20 000-point buffer.
+    a.updateRange.offset = 3 * this.executedCount++;
+    a.updateRange.count = 3;
     a.needsUpdate = true;
     this.executed.geometry.setDrawRange(0, this.executedCount);
   }
