@@ -22,7 +22,8 @@ Vector3 vec3(const std::string& path, const YAML::Node& n, const char* key) {
 
 }  // namespace
 
-ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose)
+ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose,
+                               FrameLookup frame_index)
     : path_(path), map_(map), link_pose_(std::move(link_pose)) {
   // Until a link-relative first target is known, the tip rests at the workspace centre.
   last_position_ = Vector3::Zero();
@@ -70,7 +71,21 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
     waypoints_.push_back(wp);
   }
   if (const YAML::Node b = root["buttons"])
-    for (const auto& e : b) buttons_.emplace_back(e["t"].as<double>(), e["down"].as<bool>());
+    for (const auto& e : b) {
+      ButtonEvent event;
+      if (!e["t"] || !e["down"]) fail(path, e, "a button event needs t and down");
+      event.t = e["t"].as<double>();
+      event.down = e["down"].as<bool>();
+      if (e["attach"]) {
+        const std::string name = e["attach"].as<std::string>();
+        if (!event.down) fail(path, e, "attach: only on a press (down: true)");
+        if (!frame_index) fail(path, e, "attach: this device has no scene to find '" + name + "' in");
+        event.attach_frame = frame_index(name);
+        if (event.attach_frame < 0) fail(path, e, "attach: no link or free body '" + name + "' in the scene");
+        event.attach_point = e["point"] ? vec3(path, e, "point") : Vector3::Zero();
+      }
+      buttons_.push_back(event);
+    }
   end_ = root["end"] ? root["end"].as<double>() : waypoints_.back().t;
   if (has_orientation_) {
     limits_.max_torque = root["max_torque"] ? root["max_torque"].as<double>() : 1.0;
@@ -147,8 +162,12 @@ DeviceReading ScriptedDevice::read(double t) {
     r.position = hand_x_;
     r.velocity = hand_v_;
   }
-  for (const auto& [bt, down] : buttons_)
-    if (t >= bt) r.buttons = down ? 1 : 0;
+  for (const ButtonEvent& e : buttons_) {
+    if (t < e.t) continue;
+    r.buttons = e.down ? 1 : 0;
+    r.attach_frame = e.down ? e.attach_frame : -1;
+    r.attach_point = e.attach_point;
+  }
   last_t_ = t;
   last_device_ = r.position;
   last_position_ = frame_scene_ ? map_.toScene(r.position) : r.position;
@@ -162,6 +181,6 @@ IGMS_REGISTER_DEVICE((DeviceEntry{
     "scripted", "scripted:FILE   timed tip targets and buttons from a YAML script (scenes/push_demo.yaml)",
     [](const std::string& file, const DeviceContext& c) -> std::unique_ptr<HapticDevice> {
       if (file.empty()) throw std::runtime_error("--device scripted:FILE needs the script's file");
-      return std::make_unique<ScriptedDevice>(file, c.map, c.link_pose);
+      return std::make_unique<ScriptedDevice>(file, c.map, c.link_pose, c.frame_index);
     }}));
 }  // namespace igms

@@ -16,6 +16,10 @@
 //   buttons:
 //     - {t: 2.0, down: true}
 //     - {t: 4.0, down: false}
+//     - {t: 5.0, down: true, attach: box_b, point: [0, 0, 0.04]}
+//                           # this press pulls from a point of the named link or free
+//                           # body (its frame), as a click on it in the browser does;
+//                           # without attach, the scene's interaction.pull link
 //   end: 6.0                # s
 //
 // The tip moves between waypoints with a smooth (C1) blend. With `hand`, the
@@ -38,8 +42,11 @@ class ScriptedDevice : public HapticDevice {
   // link_pose(name, &X): the client's current estimate of a link's pose in
   // the scene (false when unknown).
   using LinkLookup = std::function<bool(const std::string&, SE3*)>;
+  // frame_index(name): the frame's index in the scene's model (-1 when absent); needed by `attach`.
+  using FrameLookup = std::function<int(const std::string&)>;
 
-  ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose);
+  ScriptedDevice(const std::string& path, const WorkspaceMap& map, LinkLookup link_pose,
+                 FrameLookup frame_index = nullptr);
   std::string name() const override { return "scripted:" + path_; }
   DeviceLimits limits() const override { return limits_; }
   DeviceReading read(double t) override;
@@ -67,7 +74,13 @@ class ScriptedDevice : public HapticDevice {
   LinkLookup link_pose_;
   bool frame_scene_ = true;
   std::vector<Waypoint> waypoints_;
-  std::vector<std::pair<double, bool>> buttons_;
+  struct ButtonEvent {
+    double t = 0.0;
+    bool down = false;
+    int attach_frame = -1;  // the press pulls from here (-1: the scene's pull link)
+    Vector3 attach_point = Vector3::Zero();
+  };
+  std::vector<ButtonEvent> buttons_;
   double end_ = 0.0;
   DeviceLimits limits_;
   Vector3 force_ = Vector3::Zero(), torque_ = Vector3::Zero();

@@ -42,6 +42,25 @@ TEST(HandInEnvironment, AProbePushesABoxAcrossTheTableAndFeelsTheTableAsAWall) {
   EXPECT_GT(r.max_robot_force, 0.5) << "the push acted on the box";
 }
 
+// A scripted hand names the body it pulls (scenes/ball_lift.yaml: the press attaches to the ball).
+TEST(HandInEnvironment, AScriptedPullNamesTheBallItLifts) {
+  const ScenarioResult r = runScenario(shipped("hand_table.yaml"), test::sourceDir() + "/scenes/ball_lift.yaml", 4.0,
+                                       "", 0.01, true);
+  ASSERT_FALSE(r.diverged);
+  double highest = 0.0;
+  size_t z = 0;
+  for (size_t c = 0; c < r.q_columns.size(); ++c)
+    if (r.q_columns[c] == "ball.z") z = c;
+  ASSERT_GT(z, 0u);
+  for (const auto& s : r.samples) highest = std::max(highest, s.q[z]);
+  std::printf("the ball rose to z %.4f m (from 0.16) and ends at %.5f m; largest force step %.3f N\n", highest,
+              column(r, "ball.z"), r.max_force_step);
+  EXPECT_GT(highest, 0.16 + 0.07) << "lifted by most of the script's 10 cm";
+  EXPECT_NEAR(column(r, "ball.z"), 0.16, 1e-3) << "let go, it fell back onto the table and rests there";
+  EXPECT_NEAR(column(r, "box_a.x"), 0.42, 1e-6) << "nothing else was pulled";
+  EXPECT_LE(r.max_force_step, 1.0 + 1e-12);
+}
+
 TEST(HandInEnvironment, ThePullLiftsAFreeBoxAndDropsItAndItSettles) {
   Scene scene = shipped("puma_table.yaml");
   scene.robots.front().trajectory = TrajectorySpec{};  // the arm stands still: it would knock the box over

@@ -141,6 +141,32 @@ TEST(ScriptedDevice, FollowsWaypointsSmoothlyAndPressesButtons) {
   EXPECT_TRUE(d.finished(1.5));
 }
 
+// A press may name what it pulls (a link or a free body); a name the scene lacks is an error naming the file.
+TEST(ScriptedDevice, APressNamesTheBodyItPulls) {
+  const auto frames = [](const std::string& name) { return name == "ball" ? 7 : -1; };
+  const std::string path = writeScript(
+      "frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0]}\n"
+      "buttons:\n  - {t: 0.5, down: true, attach: ball, point: [0, 0, 0.04]}\n  - {t: 1.0, down: false}\n"
+      "  - {t: 1.5, down: true}\nend: 2\n");
+  ScriptedDevice d(path, WorkspaceMap{1.0, Vector3::Zero()}, nullptr, frames);
+  EXPECT_EQ(d.read(0.2).attach_frame, -1);
+  const DeviceReading held = d.read(0.7);
+  EXPECT_EQ(held.buttons, 1);
+  EXPECT_EQ(held.attach_frame, 7);
+  EXPECT_NEAR(held.attach_point.z(), 0.04, 1e-15);
+  EXPECT_EQ(d.read(1.2).attach_frame, -1) << "released";
+  EXPECT_EQ(d.read(1.7).attach_frame, -1) << "a press without attach: the scene's pull link";
+  const std::string bad = writeScript(
+      "frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0]}\nbuttons:\n  - {t: 0.5, down: true, attach: cup}\n");
+  try {
+    ScriptedDevice b(bad, WorkspaceMap{1.0, Vector3::Zero()}, nullptr, frames);
+    ADD_FAILURE() << "an unknown body was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no link or free body 'cup'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ScriptedDevice, OrientationWaypointsMakeASixDofDevice) {
   const std::string path = writeScript(
       "frame: scene\nwaypoints:\n  - {t: 0.0, xyz: [0, 0, 0], rpy: [0, 0, 0]}\n"

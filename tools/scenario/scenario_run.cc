@@ -31,7 +31,8 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
                                                 if (f < 0) return false;
                                                 *X = links[static_cast<size_t>(f)];
                                                 return true;
-                                              });
+                                              },
+                                              [&](const std::string& name) { return model.frameIndex(name); });
   // The end-effector: the first robot's line's frame, or its last link.
   const RobotSpec* robot = scene.robot();
   const std::string prefix = robot && !robot->name.empty() ? robot->name + "/" : "";
@@ -51,6 +52,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     const DeviceReading r = device ? device->read(t) : DeviceReading{};
     const WorkspaceMap map{scene.workspace_scale, scene.workspace_offset};
     const Vector3 tip = map.toScene(r.position), tip_velocity = map.scale * r.velocity;
+    client.setAttachment(r.attach_frame, r.attach_point);
     client.setOrientation(r.has_orientation, r.orientation, r.angular_velocity);
     client.fillInput(tip, tip_velocity, r.buttons, msg);
     msg.seq = k;
