@@ -2,7 +2,8 @@
 """Summary of one session (scripts/run_session.sh, scripts/paper_run.sh) of any scene:
 collision-free or not, when the scene's end-effector reached its target (a
 cartesian_line trajectory's; the paper's is at the wall), the interactions and
-their forces, the joints that went beyond their limits, the client's rate and
+their forces, the closest approach to an obstacle (the line's goal, the
+paper's wall, left out), the joints that went beyond their limits, the client's rate and
 deadline misses (from the logged client status). Writes OUT/summary.json and
 OUT/summary.md, prints the latter.
 Usage: scripts/session_summary.py OUT_DIR TITLE"""
@@ -17,6 +18,33 @@ import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "lib"))
 from scene_frames import end_effector  # noqa: E402
+
+
+def closest_approach(summary, path, t, near):
+    """One definition of "closest approach": the robot's least distance to an obstacle over the session,
+    leaving out the obstacle its line is meant to reach (the goal: within 2 cm of the robot when the
+    end-effector reaches its target; the paper's wall). From igms-replay export's obstacles.csv (each
+    obstacle's distance per step); without it, the states' nearest obstacle, the goal included."""
+    if not os.path.exists(path):
+        return
+    rows = list(csv.DictReader(open(path)))
+    if not rows:
+        return
+    names = [k for k in rows[0] if k not in ("t", "step")]
+    dist = {n: np.array([float(r[n]) for r in rows]) for n in names}
+    goal = None
+    if len(near):
+        at = float(t[near[0]])
+        k = min(range(len(rows)), key=lambda i: abs(float(rows[i]["t"]) - at))
+        touching = [n for n in names if dist[n][k] < 0.02]
+        goal = min(touching, key=lambda n: dist[n][k]) if touching else None
+    others = [n for n in names if n != goal] or names
+    closest = min(others, key=lambda n: dist[n].min())
+    summary["min_obstacle_distance_m"] = round(float(dist[closest].min()), 4)
+    summary["closest_obstacle"] = closest
+    summary["goal_obstacle"] = goal if goal in names and others != names else None
+    if summary["goal_obstacle"]:
+        summary["goal_obstacle_distance_m"] = round(float(dist[goal].min()), 4)
 
 
 def last_row(path, running=None):
@@ -154,6 +182,7 @@ def main():
         summary["max_penetration_m"] = max(float(r["max_penetration"]) for r in env)
     if "wall" in obstacles:  # the paper's scene: its target is at the wall
         summary["reached_wall"], summary["reached_wall_s"] = summary["reached_target"], summary["reached_target_s"]
+    closest_approach(summary, os.path.join(exp, "obstacles.csv"), t, near)
     json.dump(summary, open(os.path.join(out, "summary.json"), "w"), indent=2)
     names = {"push": "pushing", "pull": "pulling"}
     counts = {}
@@ -168,7 +197,13 @@ def main():
         lines.append(f"- reached {where}: **{'yes' if summary['reached_target'] else 'no'}**"
                      + (f" at t = {summary['reached_target_s']} s" if summary["reached_target"] else
                         f" ({summary['final_distance_to_target_m'] * 1000:.1f} mm from it at the end)"))
-    if obstacles:
+    if obstacles and summary.get("closest_obstacle"):
+        goal = summary.get("goal_obstacle")
+        lines.append(f"- closest approach to an obstacle: {summary['min_obstacle_distance_m'] * 1000:.1f} mm "
+                     f"({summary['closest_obstacle']}"
+                     + (f"; {goal}, the line's goal, is left out: "
+                        f"{summary['goal_obstacle_distance_m'] * 1000:.1f} mm" if goal else "") + ")")
+    elif obstacles:
         lines.append(f"- closest approach to an obstacle: {summary['min_obstacle_distance_m'] * 1000:.1f} mm")
     for e in ([] if summary.get("hands") else events):  # with several hands, each hand's are listed below
         counts[e["mode"]] = counts.get(e["mode"], 0) + 1

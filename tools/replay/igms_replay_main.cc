@@ -4,7 +4,8 @@
 //   igms-replay play   LOG [--speed X | --fast] [--channel REGEX] [--remap FROM=TO]... [--start S] [--end S]
 //                          [--loop] [--step] [--lcm-url URL]
 //   igms-replay resim  LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]
-//   igms-replay export LOG DIR            (CSV files and the scene, for plots; environment.csv for an environment)
+//   igms-replay export LOG DIR            (CSV files and the scene, for plots; obstacles.csv: the distance to
+//                                         each obstacle; environment.csv for an environment)
 //
 // A damaged log gives a clear error with the byte offset; the events before
 // the damage are still used (exit code 3 then, unless the command failed).
@@ -27,6 +28,7 @@
 
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/kinematics/forward_kinematics.h"
 #include "core/model/environment_model.h"
 #include "core/model_io/zlib_text.h"
 #include "core/realtime/stop_signal.h"
@@ -35,6 +37,7 @@
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
 #include "igms/session_info_t.hpp"
+#include "server/collision/collision_world.h"
 #include "tools/eventlog/event_log.h"
 #include "tools/replay/resimulate.h"
 #include "safe_decode.h"
@@ -292,9 +295,35 @@ int exportCsv(const std::string& path, const std::string& dir) {
   // An environment (free bodies, several robots, contact): environment.csv from the re-simulation
   // (bit-identical to the recorded run): every coordinate by name (each robot's q, each free body's
   // pose) and the step's contact count and deepest overlap, which the states do not carry.
-  bool env_header = false;
-  std::ofstream env;
+  bool env_header = false, obstacles_header = false;
+  std::ofstream env, obstacles;
+  // obstacles.csv: the robots' distance to each obstacle on its own (the states carry only the
+  // nearest), so that a summary can leave out the obstacle a line is meant to reach (the paper's wall).
+  std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle;
+  std::unique_ptr<igms::Data> fk;
+  std::vector<igms::SE3> poses;
   const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) {
+    const auto& scene_obstacles = sim.scene().obstacles;
+    if (!scene_obstacles.empty()) {
+      if (!obstacles_header) {
+        obstacles.open(dir + "/obstacles.csv");
+        obstacles.precision(17);
+        obstacles << "t,step";
+        for (const igms::Obstacle& o : scene_obstacles) {
+          obstacles << "," << o.name;
+          each_obstacle.push_back(std::make_unique<igms::CollisionWorld>(sim.model(), std::vector<igms::Obstacle>{o}));
+        }
+        obstacles << "\n";
+        obstacles_header = true;
+        fk = std::make_unique<igms::Data>(sim.model());
+        poses.resize(sim.model().frames.size());
+      }
+      igms::forwardKinematics(sim.model(), *fk, sim.q());
+      for (size_t f = 0; f < poses.size(); ++f) poses[f] = igms::framePose(sim.model(), *fk, static_cast<int>(f));
+      obstacles << sim.time() << "," << sim.steps();
+      for (const auto& world : each_obstacle) obstacles << "," << world->check(poses).min_distance;
+      obstacles << "\n";
+    }
     if (!sim.hasContacts() && sim.model().parts.size() < 2) return;
     if (!env_header) {
       env.open(dir + "/environment.csv");
@@ -309,8 +338,8 @@ int exportCsv(const std::string& path, const std::string& dir) {
     env << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "\n";
   });
   if (env_header && !r.error.empty()) std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
-  std::fprintf(stderr, "igms-replay: exported %s to %s/%s\n", path.c_str(), dir.c_str(),
-               env_header ? " (with environment.csv)" : "");
+  std::fprintf(stderr, "igms-replay: exported %s to %s/%s%s\n", path.c_str(), dir.c_str(),
+               obstacles_header ? " (with obstacles.csv)" : "", env_header ? " (with environment.csv)" : "");
   return c.damaged ? 3 : 0;
 }
 
