@@ -103,7 +103,6 @@ void Proxy::gatherCandidates(const TouchWorld& world, const std::vector<SE3>& fr
 }
 
 bool Proxy::centreInside(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
-  gatherCandidates(world, frame_poses, p_, radius);
   const auto& geoms = world.geoms();
   for (int k = 0; k < ncandidates_; ++k) {
     const int g = candidates_[static_cast<size_t>(k)];
@@ -159,7 +158,13 @@ void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses,
   const bool jumped = has_device_ && (device - last_device_).norm() > kJump;
   last_device_ = device;
   has_device_ = true;
-  if (!free_ && (jumped || centreInside(world, frame_poses, radius))) release();
+  // What the proxy can meet this cycle: within its travel (at most kMaxSubsteps steps) and its
+  // radius. One gather serves the check below and the move (a superset of what the check needs).
+  const double travel = std::min((device - p_).norm(), kMaxSubsteps * step);
+  if (!free_) {
+    gatherCandidates(world, frame_poses, p_, travel + 2.0 * radius);
+    if (jumped || centreInside(world, frame_poses, radius)) release();
+  }
   if (free_) {
     // Engage where the device is clear of everything, or no deeper than kEngageDepth.
     const double engage = radius - std::min(radius, kEngageDepth) - kTouchSlop;
@@ -176,9 +181,6 @@ void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses,
     collectTouches(world, frame_poses, radius);
     return;
   }
-  // What the proxy can meet this cycle: within its travel (at most kMaxSubsteps steps) and its radius.
-  const double travel = std::min((device - p_).norm(), kMaxSubsteps * step);
-  gatherCandidates(world, frame_poses, p_, travel + 2.0 * radius);
   depenetrate(world, frame_poses, radius);  // what moved into it since the last cycle
   collectTouches(world, frame_poses, radius);
   int s = 0;

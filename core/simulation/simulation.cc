@@ -9,6 +9,7 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
 #include "core/scene/trajectory_file.h"
+#include "core/simulation/touch_world_of.h"
 
 namespace igms {
 
@@ -55,8 +56,7 @@ Simulation::Simulation(ResolvedScene resolved)
   environment_ = m.parts.size() > 1;
   robot_held_.assign(controllers_.size(), 0);
   if (scene_.push.enabled) {
-    touch_world_ = std::make_unique<TouchWorld>(m);
-    for (const FixedGeom& g : solidGeometry(resolved_)) touch_world_->addFixed(g.name, g.shape);
+    touch_world_ = std::make_unique<TouchWorld>(touchWorldOf(resolved_));
     for (HandTrack& h : hands_) h.proxy = Proxy(*touch_world_, scene_.push.friction);
   }
   hold_.reserve(controllers_.size());

@@ -2,16 +2,9 @@
 
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
+#include "core/simulation/touch_world_of.h"
 
 namespace igms {
-
-namespace {
-TouchWorld touchWorldOf(const ResolvedScene& r) {
-  TouchWorld w(*r.model);
-  for (const FixedGeom& g : solidGeometry(r)) w.addFixed(g.name, g.shape);
-  return w;
-}
-}  // namespace
 
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),

@@ -12,6 +12,7 @@
 #include "core/interaction/proxy.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
+#include "core/simulation/touch_world_of.h"
 #include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
 
@@ -204,8 +205,7 @@ TEST(Proxy, AFreeProxyEngagesOnlyAtTheSurfaceAndAJumpFreesIt) {
 TEST(Proxy, AnUpdateAllocatesNothing) {
   const ResolvedScene r = resolveScene(loadScene(test::sourceDir() + "/scenes/puma_table.yaml"));
   Simulation sim(r);
-  TouchWorld world(*r.model);
-  for (const FixedGeom& g : solidGeometry(r)) world.addFixed(g.name, g.shape);
+  const TouchWorld world = touchWorldOf(r);
   Proxy p(world);
   const std::vector<SE3> poses = sim.linkPoses();
   const Vector3 top = poses[static_cast<size_t>(r.model->frameIndex("box_b"))].p + Vector3(0, 0, 0.05);
