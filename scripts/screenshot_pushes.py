@@ -69,7 +69,7 @@ def main():
                      "--enable-unsafe-swiftshader", "--window-size=1200,800", "--hide-scrollbars"):
             options.add_argument(flag)
         driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
-        driver.get(url)
+        driver.get(url + ("&" if "?" in url else "?") + "resolution=full")  # a picture: never the half-resolution fallback
         js = driver.execute_script
 
         def wait(predicate, timeout=10):

@@ -38,13 +38,16 @@ def closest_approach(summary, path, t, near):
         k = min(range(len(rows)), key=lambda i: abs(float(rows[i]["t"]) - at))
         touching = [n for n in names if dist[n][k] < 0.02]
         goal = min(touching, key=lambda n: dist[n][k]) if touching else None
-    others = [n for n in names if n != goal] or names
+    others = [n for n in names if n != goal]
+    summary["goal_obstacle"] = goal
+    if goal:
+        summary["goal_obstacle_distance_m"] = round(float(dist[goal].min()), 4)
+    if not others:  # the goal is the only obstacle watched: no approach to speak of
+        summary["min_obstacle_distance_m"], summary["closest_obstacle"] = None, None
+        return
     closest = min(others, key=lambda n: dist[n].min())
     summary["min_obstacle_distance_m"] = round(float(dist[closest].min()), 4)
     summary["closest_obstacle"] = closest
-    summary["goal_obstacle"] = goal if goal in names and others != names else None
-    if summary["goal_obstacle"]:
-        summary["goal_obstacle_distance_m"] = round(float(dist[goal].min()), 4)
 
 
 def last_row(path, running=None):
@@ -180,6 +183,10 @@ def main():
                                  "end": [round(float(env[-1][f"{n}.{c}"]), 4) for c in "xyz"]} for n in names}
         summary["max_contacts"] = max(int(r["contacts"]) for r in env)
         summary["max_penetration_m"] = max(float(r["max_penetration"]) for r in env)
+        if "robot_body_contacts" in env[0]:  # did a robot touch a free body, and when first
+            touched = [float(r["t"]) for r in env if int(r["robot_body_contacts"]) > 0]
+            summary["robot_touched_bodies"] = bool(touched)
+            summary["robot_first_touched_body_s"] = round(touched[0], 3) if touched else None
     if "wall" in obstacles:  # the paper's scene: its target is at the wall
         summary["reached_wall"], summary["reached_wall_s"] = summary["reached_target"], summary["reached_target_s"]
     closest_approach(summary, os.path.join(exp, "obstacles.csv"), t, near)
@@ -197,7 +204,9 @@ def main():
         lines.append(f"- reached {where}: **{'yes' if summary['reached_target'] else 'no'}**"
                      + (f" at t = {summary['reached_target_s']} s" if summary["reached_target"] else
                         f" ({summary['final_distance_to_target_m'] * 1000:.1f} mm from it at the end)"))
-    if obstacles and summary.get("closest_obstacle"):
+    if obstacles and "closest_obstacle" in summary and not summary["closest_obstacle"]:
+        lines.append(f"- closest approach to an obstacle: none watched but the line's goal ({summary['goal_obstacle']})")
+    elif obstacles and summary.get("closest_obstacle"):
         goal = summary.get("goal_obstacle")
         lines.append(f"- closest approach to an obstacle: {summary['min_obstacle_distance_m'] * 1000:.1f} mm "
                      f"({summary['closest_obstacle']}"
@@ -226,6 +235,10 @@ def main():
             lines.append(f"- free body `{n}`: from {b['start']} to {b['end']} m")
         lines.append(f"- contact: up to {summary['max_contacts']} points at once, deepest overlap "
                      f"{summary['max_penetration_m'] * 1000:.3f} mm")
+        if "robot_touched_bodies" in summary and summary["bodies"]:
+            lines.append("- the robot touched a free body: " + (
+                f"**yes**, first at t = {summary['robot_first_touched_body_s']} s" if summary["robot_touched_bodies"]
+                else "**no**"))
     if client and not summary.get("hands"):
         lines.append(f"- haptic client: {summary['client_rate_hz']:.1f} Hz, {summary['deadline_misses']} deadline "
                      f"misses, round trip p50 {summary['round_trip_p50_us']} us, p99 {summary['round_trip_p99_us']} us")

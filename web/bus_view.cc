@@ -187,7 +187,9 @@ std::string BusView::frameJson(double now, const std::string& extra) {
     s += ",\"attach_point\":"; appendArray(s, in.attach_point, 3);
     s += "}";
   }
-  // The contacts: points and forces (on side b, N) as flat [x y z ...] arrays.
+  // The contacts: points and forces as flat [x y z ...] arrays. The force drawn is the one on the
+  // moving side (on b, as sent, unless b is the world: then on a), so an arrow shows what the
+  // ground or a table does to the body.
   if (have_contacts_ && now - contacts_time_ < kContactsFor) {
     const contacts_t& c = contacts_;
     s += ",\"contacts\":{\"seq\":" + std::to_string(c.seq) + ",\"total\":" + std::to_string(c.total) + ",\"p\":[";
@@ -201,7 +203,8 @@ std::string BusView::frameJson(double now, const std::string& extra) {
     for (int k = 0; k < c.ncontacts; ++k) {
       for (int i = 0; i < 3; ++i) {
         if (k || i) s += ',';
-        append(s, "%.4g", c.force[static_cast<size_t>(k)][static_cast<size_t>(i)]);
+        const double sign = c.link_b[static_cast<size_t>(k)] < 0 && c.link_a[static_cast<size_t>(k)] >= 0 ? -1.0 : 1.0;
+        append(s, "%.4g", sign * c.force[static_cast<size_t>(k)][static_cast<size_t>(i)]);
       }
     }
     s += "]}";

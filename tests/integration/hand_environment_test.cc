@@ -61,6 +61,54 @@ TEST(HandInEnvironment, AScriptedPullNamesTheBallItLifts) {
   EXPECT_LE(r.max_force_step, 1.0 + 1e-12);
 }
 
+// The demo's environment run (scenes/table_clear.yaml): without a hand the arm sweeps box_b along its
+// line; scenes/table_clear_push.yaml pushes it out of the way first, and the arm passes clear of it.
+TEST(HandInEnvironment, AHandClearsTheArmsWayBeforeItArrives) {
+  const ScenarioResult nominal = runScenario(shipped("table_clear.yaml"), "", 6.0, "", 0.01, false);
+  const ScenarioResult r = runScenario(shipped("table_clear.yaml"), test::sourceDir() + "/scenes/table_clear_push.yaml",
+                                       6.0, "", 0.01, true);
+  ASSERT_FALSE(nominal.diverged);
+  ASSERT_FALSE(r.diverged);
+  std::printf("box_b without a hand ends at (%.3f, %.3f); pushed first, at (%.3f, %.3f, %.4f); the wall reached at "
+              "%.3f s; largest force step %.3f N\n",
+              column(nominal, "box_b.x"), column(nominal, "box_b.y"), column(r, "box_b.x"), column(r, "box_b.y"),
+              column(r, "box_b.z"), r.reached_wall_time, r.max_force_step);
+  EXPECT_GT(std::abs(column(nominal, "box_b.y")), 0.1) << "without a hand the arm sweeps the box along its line";
+  EXPECT_GT(column(r, "box_b.x") - 0.42, 0.09) << "the hand pushed it along +x";
+  EXPECT_NEAR(column(r, "box_b.y"), 0.0, 5e-3) << "and the arm never touched it";
+  EXPECT_NEAR(column(r, "box_b.z"), 0.16, 2e-3) << "it ends on the table";
+  for (const char* other : {"box_a.x", "box_c.x"}) EXPECT_NEAR(column(r, other), 0.56, 1e-6) << other;
+  EXPECT_GT(r.reached_wall_time, 0.0) << "the arm reached the wall";
+  EXPECT_EQ(r.collision_steps, 0);
+  EXPECT_LE(r.max_force_step, 1.0 + 1e-12);
+}
+
+// The demo's Go1 (scenes/go1_stand.yaml, gravity, PD legs): a hand pushes the trunk sideways; it
+// gives way some millimetres, stands, and comes back when let go.
+TEST(HandInEnvironment, TheGo1StandsWhileAHandPushesItsTrunk) {
+  const ScenarioResult r = runScenario(shipped("go1_stand.yaml"), test::sourceDir() + "/scenes/go1_trunk_push.yaml",
+                                       5.0, "", 0.01, true);
+  ASSERT_FALSE(r.diverged);
+  double lowest = 1.0, furthest = 0.0;
+  size_t y = 0, z = 0;
+  for (size_t c = 0; c < r.q_columns.size(); ++c) {
+    if (r.q_columns[c] == "q1") y = c;  // the floating base: x y z first
+    if (r.q_columns[c] == "q2") z = c;
+  }
+  ASSERT_GT(z, 0u) << "the floating base's columns";
+  for (const auto& s : r.samples) {
+    lowest = std::min(lowest, s.q[z]);
+    furthest = std::min(furthest, s.q[y]);
+  }
+  std::printf("the trunk gave way %.2f mm under up to %.1f N, lowest %.4f m, ends at y %.2f mm\n", -furthest * 1e3,
+              r.max_robot_force, lowest, column(r, "q1") * 1e3);
+  EXPECT_GT(r.max_robot_force, 10.0) << "the push acted";
+  EXPECT_LT(furthest, -0.003) << "the trunk gave way to the push";
+  EXPECT_GT(lowest, 0.25) << "and the Go1 stayed standing";
+  EXPECT_NEAR(column(r, "q1"), 0.0, 1e-3) << "its feet stuck: let go, it came back";
+  EXPECT_LE(r.max_force_step, 1.0 + 1e-12);
+}
+
 TEST(HandInEnvironment, ThePullLiftsAFreeBoxAndDropsItAndItSettles) {
   Scene scene = shipped("puma_table.yaml");
   scene.robots.front().trajectory = TrajectorySpec{};  // the arm stands still: it would knock the box over

@@ -263,8 +263,9 @@ TEST(BusView, FramesFromTheNewestStateAndLostPeers) {
   EXPECT_EQ(nlohmann::json::parse(view.frameJson(12.0, ""))["seq"], 6);
 }
 
-// The contacts ride in the frame as flat point and force arrays while fresh;
-// a malformed contacts message is counted and changes nothing.
+// The contacts ride in the frame as flat point and force arrays while fresh,
+// each force the one on the moving side; a malformed contacts message is
+// counted and changes nothing.
 TEST(BusView, ContactsInTheFrameWhileFresh) {
   igms::web::BusView view;
   const std::vector<uint8_t> a = encodedState(5, 2);
@@ -273,8 +274,8 @@ TEST(BusView, ContactsInTheFrameWhileFresh) {
   c.seq = 5;
   c.total = 3;
   c.ncontacts = 2;
-  c.link_a = {-1, -1};
-  c.link_b = {0, 1};
+  c.link_a = {-1, 1};
+  c.link_b = {0, -1};  // the second: the body is side a, the ground side b
   c.point = {{0.1, 0.2, 0.0}, {0.3, 0.4, 0.0}};
   c.normal = {{0, 0, 1}, {0, 0, 1}};
   c.force = {{0, 0, 4.905}, {0.5, 0, 4.905}};
@@ -288,7 +289,8 @@ TEST(BusView, ContactsInTheFrameWhileFresh) {
   ASSERT_EQ(f["contacts"]["p"].size(), 6u);
   ASSERT_EQ(f["contacts"]["f"].size(), 6u);
   EXPECT_DOUBLE_EQ(f["contacts"]["p"][3].get<double>(), 0.3);
-  EXPECT_DOUBLE_EQ(f["contacts"]["f"][3].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(f["contacts"]["f"][2].get<double>(), 4.905) << "on the body, side b";
+  EXPECT_DOUBLE_EQ(f["contacts"]["f"][3].get<double>(), -0.5) << "on the body, side a: the force sent, reversed";
   // Junk and a count beyond what any server sends: counted, the last good contacts kept.
   const std::vector<uint8_t> junk(60, 0xff);
   view.handle(igms::channels::kContacts, junk.data(), junk.size(), 10.1);

@@ -11,6 +11,7 @@
 // the damage are still used (exit code 3 then, unless the command failed).
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -179,6 +180,22 @@ int resim(const std::string& path, const ResimOptions& o) {
   return c.damaged || !r.error.empty() ? 3 : 0;
 }
 
+// Contacts between a robot's link and a free body in the last step (a robot that touched a box).
+int robotBodyContacts(const igms::Simulation& sim) {
+  const igms::ContactModel* cm = sim.contactModel();
+  if (!cm) return 0;
+  const igms::Model& m = sim.model();
+  auto kind = [&](int geom) {  // 0: fixed, 1: a robot, 2: a free body
+    const int part = cm->geoms()[static_cast<size_t>(geom)].part;
+    if (part < 0) return 0;
+    return m.parts[static_cast<size_t>(part)].free_body ? 2 : 1;
+  };
+  int n = 0;
+  const igms::ContactSet& set = sim.contacts();
+  for (int k = 0; k < set.n; ++k) n += kind(set[k].geom_a) + kind(set[k].geom_b) == 3;
+  return n;
+}
+
 int exportCsv(const std::string& path, const std::string& dir) {
   const auto c = load(path);
   std::error_code made;
@@ -297,19 +314,22 @@ int exportCsv(const std::string& path, const std::string& dir) {
   // pose) and the step's contact count and deepest overlap, which the states do not carry.
   bool env_header = false, obstacles_header = false;
   std::ofstream env, obstacles;
-  // obstacles.csv: the robots' distance to each obstacle on its own (the states carry only the
-  // nearest), so that a summary can leave out the obstacle a line is meant to reach (the paper's wall).
+  // obstacles.csv: the robots' distance to each watched (not solid) obstacle on its own (the states
+  // carry only the nearest), so that a summary can leave out the obstacle a line is meant to reach.
   std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle;
   std::unique_ptr<igms::Data> fk;
   std::vector<igms::SE3> poses;
   const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) {
     const auto& scene_obstacles = sim.scene().obstacles;
-    if (!scene_obstacles.empty()) {
+    const bool watched = std::any_of(scene_obstacles.begin(), scene_obstacles.end(),
+                                     [](const igms::Obstacle& o) { return !o.solid; });
+    if (watched) {
       if (!obstacles_header) {
         obstacles.open(dir + "/obstacles.csv");
         obstacles.precision(17);
         obstacles << "t,step";
         for (const igms::Obstacle& o : scene_obstacles) {
+          if (o.solid) continue;  // touched through contact, not watched (the states' distance leaves it out too)
           obstacles << "," << o.name;
           each_obstacle.push_back(std::make_unique<igms::CollisionWorld>(sim.model(), std::vector<igms::Obstacle>{o}));
         }
@@ -330,12 +350,12 @@ int exportCsv(const std::string& path, const std::string& dir) {
       env.precision(17);
       env << "t,step";
       for (const std::string& n : igms::coordinateNames(sim.model())) env << "," << n;
-      env << ",contacts,max_penetration\n";
+      env << ",contacts,max_penetration,robot_body_contacts\n";
       env_header = true;
     }
     env << sim.time() << "," << sim.steps();
     for (int k = 0; k < sim.q().size(); ++k) env << "," << sim.q()[k];
-    env << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "\n";
+    env << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "," << robotBodyContacts(sim) << "\n";
   });
   if (env_header && !r.error.empty()) std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
   std::fprintf(stderr, "igms-replay: exported %s to %s/%s%s\n", path.c_str(), dir.c_str(),

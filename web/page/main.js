@@ -172,8 +172,10 @@ function track(frame) {
 // decided once a session, after two slow seconds in a row.
 const MIN_FPS = 30;
 let slowSeconds = 0;
+// ?resolution=full keeps the full resolution (screenshots).
+const FULL_RESOLUTION = new URLSearchParams(window.location.search).get('resolution') === 'full';
 function adaptResolution() {
-  if (!SOFTWARE || state.renderScale < 1) return;
+  if (!SOFTWARE || FULL_RESOLUTION || state.renderScale < 1) return;
   slowSeconds = state.fps < MIN_FPS ? slowSeconds + 1 : 0;
   if (slowSeconds < 2) return;
   state.renderScale = 0.5;
