@@ -37,7 +37,7 @@ std::unique_ptr<HapticDevice> DeviceRegistry::make(const std::string& spec, cons
   std::string known;
   for (const auto& e : table()) known += (known.empty() ? "" : ", ") + e.name;
   throw std::runtime_error("--device: no device named '" + name + "' (built: " + known +
-                           "; real drivers need a vendor SDK, see README 'Adding a device')");
+                           "; real drivers need a vendor SDK, see docs/client.md 'Adding a device')");
 }
 
 }  // namespace igms

@@ -1,7 +1,7 @@
 // A haptic device as the servo loop sees it: read the tip, write a force.
 // Real drivers (a PHANToM through OpenHaptics, a Force Dimension device
 // through its SDK, CHAI3D) implement this interface in a file of their own,
-// behind a CMake option that is off by default; see README "Adding a device".
+// behind a CMake option that is off by default; see docs/client.md "Adding a device".
 #pragma once
 
 #include <string>

@@ -3,7 +3,7 @@
 //   igms-dyn info  --scene SCENE.yaml         the scene's environment: its robots and free bodies as parts
 //   igms-dyn eval  --model ROBOT.urdf [--floating-base] < in.jsonl > out.jsonl
 //   igms-dyn bench --model ROBOT.urdf [--floating-base] [--json]
-// See README.md for the JSON contract. Exit codes: 0 done, 1 a bad input
+// See docs/server.md (igms-dyn) for the JSON contract. Exit codes: 0 done, 1 a bad input
 // line (eval), 2 a bad command line or model.
 #include <iostream>
 #include <string>
