@@ -6,7 +6,10 @@ client rate, state age p99, largest force step (and cycles the 1 N bound cut),
 whether the session stayed collision-free and reached the wall, and how far the
 end-effector's path strayed from the zero-delay run's. Run it inside a private
 network namespace (scripts/latency_bench.sh does).
-  bench/latency_bench.py [--quick] [--seconds 7] [--out DIR] [--build build]"""
+With --box, the environment instead: a scripted hand pushes a box out of the PUMA's
+way on scenes/table_clear.yaml (the client's local model steps the contacts), and a
+second table says where the box ended.
+  bench/latency_bench.py [--quick | --box] [--seconds 7] [--out DIR] [--build build]"""
 import argparse
 import csv
 import json
@@ -21,11 +24,13 @@ import numpy as np
 import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENE = "scenes/puma_obstacle.yaml"
-SCRIPTS = {"push": "scenes/paper_push.yaml", "pull": "scenes/paper_pull.yaml"}
+SCENES = {"push": "scenes/puma_obstacle.yaml", "pull": "scenes/puma_obstacle.yaml", "box": "scenes/table_clear.yaml"}
+SCRIPTS = {"push": "scenes/paper_push.yaml", "pull": "scenes/paper_pull.yaml", "box": "scenes/table_clear_push.yaml"}
 
 
-def cases(quick):
+def cases(quick, box):
+    if box:  # the hand pushes a box out of the arm's way (the client's local model steps the contacts)
+        return [("box", d, j, 0) for d, j in ((0, 0), (5, 0), (10, 0), (20, 0), (20, 10), (50, 0))]
     if quick:
         return [("push", 0, 0, 0), ("push", 20, 10, 0), ("pull", 20, 10, 0), ("push", 5, 2.5, 0.1)]
     out = []
@@ -52,7 +57,7 @@ def run_case(args, exp, delay, jitter, loss, port):
                                        "--wait-session-s", "5", "-c", "IGMS_(SESSION_INFO|ROBOT_STATE|SERVER_STATUS)"],
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         time.sleep(0.3)
-        procs.append(subprocess.Popen([f"{b}/server/igms-server", "--scene", SCENE, "--lcm-url", server_url,
+        procs.append(subprocess.Popen([f"{b}/server/igms-server", "--scene", SCENES[exp], "--lcm-url", server_url,
                                        "--clock", "realtime", "--quiet"], stdout=subprocess.DEVNULL,
                                       stderr=subprocess.DEVNULL))
         relay_err = open(os.path.join(out, "relay.log"), "w")
@@ -60,7 +65,7 @@ def run_case(args, exp, delay, jitter, loss, port):
                                        server_url, "--delay-ms", str(delay), "--jitter-ms", str(jitter),
                                        "--loss", str(loss), "--seed", "7"], stderr=relay_err))
         time.sleep(0.3)
-        client = subprocess.run([f"{b}/haptic_client/igms-haptic", "--scene", SCENE, "--device",
+        client = subprocess.run([f"{b}/haptic_client/igms-haptic", "--scene", SCENES[exp], "--device",
                                  "scripted:" + SCRIPTS[exp], "--lcm-url", client_url, "--duration",
                                  str(args.seconds)] + args.client_args, capture_output=True, text=True, timeout=120)
         open(os.path.join(out, "client.log"), "w").write(client.stderr)
@@ -100,6 +105,8 @@ def summarise(exp, delay, jitter, loss, out, client_log):
         "collision_free": not bool(hit.any()),
         "reached_wall": bool((np.linalg.norm(ee - target, axis=1) <= 0.01).any()),
         "t": t.tolist(), "ee": ee.tolist(),
+        # A box push: where box_b ended (the states carry every body as a link).
+        "box_end": [float(rows[-1]["box_b." + c]) for c in "xyz"] if "box_b.x" in rows[0] else None,
     }
 
 
@@ -123,6 +130,8 @@ def deviation(a, b):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="four cases (the test's), not the whole table")
+    p.add_argument("--box", action="store_true",
+                   help="the environment instead: a hand pushes a box out of the arm's way (scenes/table_clear.yaml)")
     p.add_argument("--seconds", type=float, default=7.0)
     p.add_argument("--out", default="out/latency_bench")
     p.add_argument("--build", default=os.environ.get("IGMS_BUILD", "build"))
@@ -132,7 +141,7 @@ def main():
     args = p.parse_args()
     os.chdir(ROOT)
     results, zero = [], {}
-    for i, (exp, d, j, l) in enumerate(cases(args.quick)):
+    for i, (exp, d, j, l) in enumerate(cases(args.quick, args.box)):
         name, out, log = run_case(args, exp, d, j, l, args.port + 2 * (i % 20))
         r = summarise(exp, d, j, l, out, log)
         if d == 0 and j == 0 and l == 0:
@@ -157,6 +166,14 @@ def main():
               f"({r['cut_to_bound']}) | {r['lowest_energy_mJ']} mJ ({r['passivity_cycles']}) | "
               f"{'yes' if r['collision_free'] else 'no'} | "
               f"{'yes' if r['reached_wall'] else 'no'} | {r['deviation_mm']} mm ({r['shape_deviation_mm']} mm) |")
+    if args.box:
+        print()
+        print("| one-way delay | jitter | box_b moved along x | box_b's y (the arm sweeps it along y) | on the table (z) |")
+        print("|---:|---:|---:|---:|---:|")
+        for r in results:
+            x, y, z = r["box_end"] or (float("nan"),) * 3
+            print(f"| {r['delay_ms']:g} ms | ±{r['jitter_ms']:g} ms | {(x - 0.42) * 1000:.1f} mm | {y * 1000:.1f} mm | "
+                  f"{z:.4f} m |")
     if args.json:
         json.dump([{k: v for k, v in r.items() if k not in ("t", "ee")} for r in results], open(args.json, "w"),
                   indent=1)

@@ -158,9 +158,11 @@ def lift_and_drop(checks, driver):
                                                           before["rejected_malformed"] + 2 else None)(
                                                               bs.status(device_url)), timeout=5)
     held = position(page, ball)
-    checks.check(distance(held, lifted) < 0.01, "a malformed message changes nothing",
-                 "%d malformed counted, the ball moved %.4f m" % (after["rejected_malformed"] -
-                                                                  before["rejected_malformed"], distance(held, lifted)))
+    # Applied, either would end the pull or move the tip, and the ball would drop or leap by tens of
+    # cm; on the spring it still sways by about a centimetre on its own.
+    checks.check(distance(held, lifted) < 0.03 and page.frame()["mode"] == 2, "a malformed message changes nothing",
+                 "%d malformed counted, still pulling, the ball moved %.4f m" % (
+                     after["rejected_malformed"] - before["rejected_malformed"], distance(held, lifted)))
     ActionChains(driver).release().key_up(Keys.SHIFT).perform()
     time.sleep(3.0)
     z = []
