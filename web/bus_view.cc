@@ -201,10 +201,11 @@ std::string BusView::frameJson(double now, const std::string& extra) {
     }
     s += "],\"f\":[";
     for (int k = 0; k < c.ncontacts; ++k) {
+      const auto n = static_cast<size_t>(k);
+      const double sign = c.link_b[n] < 0 && c.link_a[n] >= 0 ? -1.0 : 1.0;
       for (int i = 0; i < 3; ++i) {
         if (k || i) s += ',';
-        const double sign = c.link_b[static_cast<size_t>(k)] < 0 && c.link_a[static_cast<size_t>(k)] >= 0 ? -1.0 : 1.0;
-        append(s, "%.4g", sign * c.force[static_cast<size_t>(k)][static_cast<size_t>(i)]);
+        append(s, "%.4g", sign * c.force[n][static_cast<size_t>(i)]);
       }
     }
     s += "]}";

@@ -55,13 +55,12 @@ int stickParent(const Model& m, int f) {
   return pb >= 0 ? m.frameIndex(m.body_name[static_cast<size_t>(pb)]) : m.frameIndex(m.root_link);
 }
 
-// The file a frame's meshes are named relative to: its robot's (several robots
-// come from several files; the environment model's own source is the first's).
-std::string sourceOfFrame(const ResolvedScene& r, int f) {
-  const int part = r.model->partOfFrame(f);
+// The file a part's meshes are named relative to: its robot's (several robots
+// come from several files, robots first in the model; the environment model's
+// own source is the first's).
+const std::string& sourceOfPart(const ResolvedScene& r, int part) {
   const auto& robots = r.scene.robots;
-  if (part >= 0 && part < static_cast<int>(robots.size()) && !r.model->parts[static_cast<size_t>(part)].free_body)
-    return robots[static_cast<size_t>(part)].model_path;
+  if (part >= 0 && part < static_cast<int>(robots.size())) return robots[static_cast<size_t>(part)].model_path;
   return r.model->source;
 }
 
@@ -70,9 +69,9 @@ json links(const ResolvedScene& r, const std::function<std::string(const std::st
   json out = json::array();
   for (int f = 0; f < static_cast<int>(m.frames.size()); ++f) {
     const Frame& frame = m.frame(f);
-    const std::string source = sourceOfFrame(r, f);
-    json l = {{"name", frame.name}, {"parent", stickParent(m, f)}};
     const int part = m.partOfFrame(f);
+    const std::string& source = sourceOfPart(r, part);
+    json l = {{"name", frame.name}, {"parent", stickParent(m, f)}};
     l["free_body"] = part >= 0 && m.parts[static_cast<size_t>(part)].free_body;
     json shapes = json::array();
     if (!frame.visuals.empty()) {

@@ -317,8 +317,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
   // obstacles.csv: the robots' distance to each watched (not solid) obstacle on its own (the states
   // carry only the nearest), so that a summary can leave out the obstacle a line is meant to reach.
   std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle;
-  std::unique_ptr<igms::Data> fk;
-  std::vector<igms::SE3> poses;
+  std::unique_ptr<igms::Data> fk;  // the link poses for the check (the callback's simulation is const)
   const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) {
     const auto& scene_obstacles = sim.scene().obstacles;
     const bool watched = std::any_of(scene_obstacles.begin(), scene_obstacles.end(),
@@ -336,12 +335,10 @@ int exportCsv(const std::string& path, const std::string& dir) {
         obstacles << "\n";
         obstacles_header = true;
         fk = std::make_unique<igms::Data>(sim.model());
-        poses.resize(sim.model().frames.size());
       }
-      igms::forwardKinematics(sim.model(), *fk, sim.q());
-      for (size_t f = 0; f < poses.size(); ++f) poses[f] = igms::framePose(sim.model(), *fk, static_cast<int>(f));
+      igms::forwardKinematics(sim.model(), *fk, sim.q());  // every frame's world pose, in fk->oMf
       obstacles << sim.time() << "," << sim.steps();
-      for (const auto& world : each_obstacle) obstacles << "," << world->check(poses).min_distance;
+      for (const auto& world : each_obstacle) obstacles << "," << world->check(fk->oMf).min_distance;
       obstacles << "\n";
     }
     if (!sim.hasContacts() && sim.model().parts.size() < 2) return;

@@ -173,7 +173,7 @@ function track(frame) {
 const MIN_FPS = 30;
 let slowSeconds = 0;
 // ?resolution=full keeps the full resolution (screenshots).
-const FULL_RESOLUTION = new URLSearchParams(window.location.search).get('resolution') === 'full';
+const FULL_RESOLUTION = params.get('resolution') === 'full';
 function adaptResolution() {
   if (!SOFTWARE || FULL_RESOLUTION || state.renderScale < 1) return;
   slowSeconds = state.fps < MIN_FPS ? slowSeconds + 1 : 0;
