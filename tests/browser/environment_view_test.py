@@ -117,7 +117,14 @@ def table_and_push(checks, driver):
     for _ in range(40):  # 20 cm into the screen, a notch every 50 ms
         ActionChains(driver).scroll_from_origin(ScrollOrigin.from_viewport(at["x"], at["y"]), 0, 100).perform()
         time.sleep(0.05)
-    time.sleep(1.0)
+    # A busy page coalesces wheel events; the page counts the notches in their deltas.
+    depth = page.js("const d = window.igms.device.drag; return d ? d.depth : null")
+    checks.check(depth is not None and abs(depth - 0.2) < 1e-6, "every wheel notch moved the tip 5 mm deeper",
+                 "depth %s m after 40 notches" % depth)
+    # The box slides as the 1 kHz loop pushes; a slow machine may take a while.
+    deadline = time.time() + 5.0
+    while time.time() < deadline and distance(position(page, box), start) < 0.05:
+        time.sleep(0.1)
     ActionChains(driver).release().perform()
     time.sleep(1.0)
     moved = distance(position(page, box), start)

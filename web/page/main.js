@@ -265,6 +265,7 @@ window.igms = {
   send: (message) => socket && socket.readyState === WebSocket.OPEN && socket.send(message),
   robot,
   contacts,
+  device,
   camera,
   resetView,
   screenOf,

@@ -14,8 +14,18 @@
 import * as THREE from '/three/build/three.module.js';
 
 export const WHEEL_STEP = 0.005;  // m per wheel notch
+// A busy page gets coalesced wheel events whose deltas add up: count the
+// notches in the delta, not the events, or a slow machine loses depth.
+const PIXELS_PER_NOTCH = 100;  // Chromium's pixel delta for one notch
+const LINES_PER_NOTCH = 3;  // Firefox reports lines
 const CLEARANCE = 0.01;  // the tip starts this far outside the surface (the link may be moving), m
 export const ROTATE_PER_PIXEL = 0.01;  // rad
+
+// Signed notches in one wheel event: at least one, so a touchpad's small deltas still move.
+export function wheelNotches(e) {
+  const per = e.deltaMode === 1 ? LINES_PER_NOTCH : e.deltaMode === 2 ? 1 : PIXELS_PER_NOTCH;
+  return Math.sign(e.deltaY) * Math.max(1, Math.round(Math.abs(e.deltaY) / per));
+}
 
 export class MouseDevice {
   constructor({ element, camera, controls, robot, send }) {
@@ -132,7 +142,7 @@ export class MouseDevice {
     if (!this.drag) return;
     e.stopPropagation();
     e.preventDefault();
-    this.drag.depth += Math.sign(e.deltaY) * WHEEL_STEP;  // away from you: deeper
+    this.drag.depth += wheelNotches(e) * WHEEL_STEP;  // away from you: deeper
     const at = this.lastEvent || e;
     this.target(this.cursorPoint(at), false);
   }
