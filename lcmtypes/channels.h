@@ -20,5 +20,7 @@ inline constexpr const char* kSessionInfo = "IGMS_SESSION_INFO";       // sessio
 inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartbeat_t
 // Scenes with contact: points, normals and forces, at most --contact-rate Hz.
 inline constexpr const char* kContacts = "IGMS_CONTACTS";              // contacts_t
+// Every program, 1 Hz: its message checks' counts (bus/message_verifier.h).
+inline constexpr const char* kBusStatus = "IGMS_BUS_STATUS";           // bus_status_t
 
 }  // namespace igms::channels

@@ -10,7 +10,10 @@
 #   scripts/bus.sh status          is it there, and what listens on it
 #   scripts/bus.sh port PORT       this machine's 127.0.0.1:PORT reaches the bus's 127.0.0.1:PORT
 #                                  (a browser outside opens the viewer's page; Ctrl-C stops)
-#   scripts/bus.sh down            remove it (the processes on it keep their sockets)
+#   scripts/bus.sh key             print the path of its bus key
+#   scripts/bus.sh down            remove it and its key (the processes on it keep their sockets)
+# The bus is signed: `up` makes it a key (mode 0600, in $XDG_RUNTIME_DIR or
+# /tmp) and `run` hands it to the command as IGMS_KEY_FILE, unless that is set.
 # IGMS_BUS names it (default igms). `ip netns` needs root: as a user, sudo
 # enters the namespace and the command runs as you again.
 set -euo pipefail
@@ -18,8 +21,11 @@ name=${IGMS_BUS:-igms}
 sudo=""
 [[ $(id -u) -eq 0 ]] || sudo="sudo"
 
+source "$(dirname "$0")/lib/bus_key.sh"
+key_file=${XDG_RUNTIME_DIR:-/tmp}/igms-bus-$name.key
 exists() { [[ -e /run/netns/$name ]]; }
 up() {
+  [[ -e $key_file ]] || igms_new_key "$key_file"
   exists && return 0
   # Two first calls at once: one makes it, the other waits and finds it (the lock ends with the subshell,
   # so no command started later inherits it).
@@ -40,6 +46,7 @@ case "${1:-}" in
     shift
     [[ $# -gt 0 ]] || { echo "usage: $0 run COMMAND [ARGS...]" >&2; exit 2; }
     up
+    export IGMS_KEY_FILE=${IGMS_KEY_FILE:-$key_file}
     if [[ -z $sudo ]]; then
       exec ip netns exec "$name" env IGMS_IN_NETNS=1 "$@"
     fi
@@ -62,11 +69,16 @@ case "${1:-}" in
       exit 1
     fi
     ;;
+  key)
+    [[ -e $key_file ]] || { echo "bus.sh: no key for bus '$name' (scripts/bus.sh up)" >&2; exit 1; }
+    echo "$key_file"
+    ;;
   down)
     if exists; then $sudo ip netns del "$name"; echo "bus.sh: private bus '$name' removed" >&2; fi
+    rm -f "$key_file"
     ;;
   *)
-    echo "usage: $0 up|run COMMAND...|port PORT|status|down   (IGMS_BUS names the bus; default igms)" >&2
+    echo "usage: $0 up|run COMMAND...|port PORT|status|key|down   (IGMS_BUS names the bus; default igms)" >&2
     exit 2
     ;;
 esac

@@ -43,6 +43,12 @@ if [[ "${1:-}" == "" ]]; then
   }
   trap cleanup EXIT
   trap 'exit 130' INT TERM
+  # A signed bus: a new key for this seat's processes unless IGMS_KEY_FILE names one (removed with $sockets).
+  source scripts/lib/bus_key.sh
+  if [[ -z ${IGMS_KEY_FILE:-} ]]; then
+    igms_new_key "$sockets/bus.key"
+    export IGMS_KEY_FILE=$sockets/bus.key
+  fi
   for pair in "$device_port:device" "$view_port:view"; do
     socat "TCP-LISTEN:${pair%%:*},bind=$bind,reuseaddr,fork" "UNIX-CONNECT:$sockets/${pair##*:}.sock" &
     pids+=($!)
@@ -80,7 +86,7 @@ socat "UNIX-LISTEN:$sockets/view.sock,fork" "TCP:127.0.0.1:$view_port" &
 pids+=($!)
 token=$(sed -n 's/.*token=\([0-9a-f]*\).*/\1/p' "$out/device.url")
 echo "live: $scene"
-echo "  push and pull it (your mouse is the device): http://$host:$device_port/?token=$token"
+echo "  push and pull it (your mouse is the device): http://$host:$device_port/#token=$token"
 echo "  watch only:                                  http://$host:$view_port/"
 echo "  logs: $out/ (haptic.log, viewer.log). Ctrl-C stops everything."
 if [[ $seconds != 0 ]]; then sleep "$seconds"; else while kill -0 "${pids[0]}" 2>/dev/null; do sleep 1; done; fi

@@ -14,6 +14,7 @@ packages=(
   liburdfdom-dev libyaml-cpp-dev              # model loaders (URDF, DH tables, scenes)
   libassimp-dev                               # meshes (STL, Collada, OBJ) for collision and visuals
   liblcm-dev liblcm-bin liblcm-java           # bus: C++ library, lcm-gen, lcm-logplayer, lcm-spy (lcm.jar)
+  libssl-dev                                  # the signed bus: AES-256-GMAC, HMAC-SHA256 (OpenSSL)
   libfcl-dev libode-dev                       # collision (FCL) and the ODE reference simulator
   liborocos-kdl-dev                           # KDL: cross-checks and benchmark peer
   libcli11-dev                                # command lines (CLI11)

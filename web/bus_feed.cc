@@ -3,23 +3,33 @@
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
+#include "bus/bus_status.h"
+#include "channels.h"
 #include "core/realtime/clock.h"
 
 namespace igms::web {
-namespace {
-
-void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel, BusView* view) {
-  view->handle(channel, rbuf->data, rbuf->data_size, monotonicSeconds());
+void BusFeed::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel, BusFeed* feed) {
+  const bus::Verdict checked =
+      feed->verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+  if (!checked.accepted) return;  // counted by the verifier
+  feed->view_.handle(channel, rbuf->data, checked.payload_bytes, monotonicSeconds());
 }
 
-}  // namespace
-
-BusFeed::BusFeed(const std::string& url, BusView& view) : lcm_(std::make_unique<lcm::LCM>(url)), view_(view) {
+BusFeed::BusFeed(const std::string& url, BusView& view, const std::optional<bus::BusKey>& key,
+                 const std::string& program)
+    : lcm_(std::make_unique<lcm::LCM>(url)), view_(view), verifier_(key, program), program_(program) {
   if (!lcm_->good()) throw std::runtime_error("cannot open LCM at " + url);
-  lcm::Subscription* sub = lcm_->subscribeFunction<BusView*>(".*", &onMessage, &view_);
+  out_ = std::make_unique<bus::SignedPublisher>(*lcm_, key, 16 * 1024);
+  lcm::Subscription* sub = lcm_->subscribeFunction<BusFeed*>(".*", &BusFeed::onMessage, this);
   sub->setQueueCapacity(1000);
   thread_ = std::thread([this] {
-    while (!stop_) lcm_->handleTimeout(50);
+    double next_status = monotonicSeconds() + 1.0;
+    while (!stop_) {
+      lcm_->handleTimeout(50);
+      if (monotonicSeconds() < next_status) continue;
+      next_status += 1.0;
+      publish(channels::kBusStatus, bus::busStatus(program_, verifier_.keyed(), {&verifier_}, wallMicros()));
+    }
   });
 }
 
@@ -29,7 +39,8 @@ BusFeed::~BusFeed() {
 }
 
 void BusFeed::publishBytes(const std::string& channel, const std::string& bytes) {
-  lcm_->publish(channel, bytes.data(), static_cast<unsigned int>(bytes.size()));
+  std::lock_guard<std::mutex> lock(publish_mutex_);
+  out_->publish(channel, bytes.data(), bytes.size());
 }
 
 }  // namespace igms::web

@@ -101,9 +101,21 @@ void WebServer::onMessage(MessageHandler h) { impl_->on_message = std::move(h); 
 void WebServer::onOpen(OpenHandler h) { impl_->on_open = std::move(h); }
 void WebServer::onStatus(std::function<std::string()> extra) { impl_->status_extra = std::move(extra); }
 
+bool sameOrigin(const std::string& origin, const std::string& host, const std::string& bind, int port) {
+  if (origin.empty()) return true;  // not a browser (a browser always sends Origin on a WebSocket)
+  if (origin != "http://" + host && origin != "https://" + host) return false;  // another site's page
+  // Bound to this machine only: the page must have come from a loopback name, so a site whose DNS name
+  // resolves to 127.0.0.1 (DNS rebinding) is still another origin.
+  const bool loopback = bind == "127.0.0.1" || bind == "::1" || bind == "localhost";
+  if (!loopback) return true;
+  const std::string p = ":" + std::to_string(port);
+  return host == "127.0.0.1" + p || host == "localhost" + p || host == "[::1]" + p;
+}
+
 std::string WebServer::url(bool with_token) const {
   std::string u = "http://" + options_.bind + ":" + std::to_string(port_) + "/";
-  if (with_token && !options_.token.empty()) u += "?token=" + options_.token;
+  // In the fragment: a browser never sends it, so no server, proxy or Referer header sees the token.
+  if (with_token && !options_.token.empty()) u += "#token=" + options_.token;
   return u;
 }
 
@@ -185,6 +197,7 @@ void WebServer::start() {
       std::ostringstream o;
       o << "{\"connections\":" << c.connections << ",\"messages\":" << c.messages
         << ",\"rejected_malformed\":" << c.rejected_malformed << ",\"rejected_token\":" << c.rejected_token
+        << ",\"rejected_origin\":" << c.rejected_origin
         << ",\"frames_sent\":" << c.frames_sent << ",\"frames_skipped\":" << c.frames_skipped
         << ",\"bytes_sent\":" << c.bytes_sent << ",\"http_requests\":" << c.http_requests
         << ",\"http_not_found\":" << c.http_not_found;
@@ -217,10 +230,14 @@ void WebServer::start() {
     con->set_body(std::move(body));
   });
 
-  s.set_validate_handler([impl](Handle h) {
+  s.set_validate_handler([this, impl](Handle h) {
     Server::connection_ptr con = impl->server.get_con_from_hdl(h);
     const std::string r = con->get_resource();
-    return r == "/ws" || r.rfind("/ws?", 0) == 0;
+    if (r != "/ws" && r.rfind("/ws?", 0) != 0) return false;
+    if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), options_.bind, port_))
+      return true;
+    ++counters_.rejected_origin;
+    return false;
   });
   s.set_open_handler([this, impl](Handle h) {
     Server::connection_ptr con = impl->server.get_con_from_hdl(h);

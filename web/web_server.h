@@ -32,12 +32,18 @@ struct WebCounters {
   std::atomic<int64_t> messages{0};           // received from pages
   std::atomic<int64_t> rejected_malformed{0}; // not JSON, unknown type, bad fields, too long
   std::atomic<int64_t> rejected_token{0};     // an action from a page without the token
+  std::atomic<int64_t> rejected_origin{0};    // a WebSocket from another site's page (its Origin), refused
   std::atomic<int64_t> frames_sent{0};
   std::atomic<int64_t> frames_skipped{0};     // newest-wins: the page had not taken the last one
   std::atomic<int64_t> bytes_sent{0};
   std::atomic<int64_t> http_requests{0};
   std::atomic<int64_t> http_not_found{0};
 };
+
+// A WebSocket's Origin against the page's own (the Host it was served from):
+// empty (not a browser) or the same site; with a loopback bind the host must
+// be a loopback name too.
+bool sameOrigin(const std::string& origin, const std::string& host, const std::string& bind, int port);
 
 class WebServer {
  public:

@@ -5,6 +5,7 @@
 #include <memory>
 #include <thread>
 
+#include "bus/bus_key.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/realtime_priority.h"
 #include "core/scene/resolved_scene.h"
@@ -24,7 +25,10 @@ int connect(ClientBus& bus, const Model& model, const ClientOptions& o, const st
   const double t0 = monotonicSeconds();
   while (!bus.haveServer() && !stop) {
     if (monotonicSeconds() - t0 > o.connect_timeout) {
-      std::fprintf(stderr, "igms-haptic: no server status on the bus within %.0f s\n", o.connect_timeout);
+      const bus::VerifierCounts c = bus.verifier().counts();
+      std::fprintf(stderr, "igms-haptic: no server status on the bus within %.0f s%s\n", o.connect_timeout,
+                   c.refusedTotal() > 0 ? " that passed the message check (see above: a missing or wrong --key-file?)"
+                                        : "");
       return 3;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -77,7 +81,9 @@ void printSummary(const ServoStats& s, double wall) {
 int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   ResolvedScene resolved;
   FallbackPolicy policy;
+  std::optional<bus::BusKey> key;
   try {
+    key = bus::busKeyFor("igms-haptic", o.key_file);
     resolved = resolveScene(loadScene(o.scene_path));
     if (!parseFallback(o.fallback, &policy))
       throw std::runtime_error("--fallback is predict, hold, extrapolate or interpolate");
@@ -88,7 +94,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
-  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id);
+  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id, key);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;
@@ -105,7 +111,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
                             *X = links[static_cast<size_t>(f)];
                             return true;
                           },
-                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url};
+                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url, key};
     device = DeviceRegistry::make(o.device, context);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
@@ -125,6 +131,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
   if (!o.quiet) printSummary(stats, wall);
+  if (!o.quiet || bus.verifier().counts().refusedTotal() > 0)
+    std::fprintf(stderr, "igms-haptic: bus: %s\n", bus.verifier().summary().c_str());
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
                  static_cast<long long>(bus.undecodable()));

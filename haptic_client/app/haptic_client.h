@@ -27,6 +27,7 @@ struct ClientOptions {
   double connect_timeout = 10.0;  // s to wait for the server's first status
   bool quiet = false;
   int rt_priority = 0;         // > 0: the servo loop asks for SCHED_FIFO at this priority and locks memory
+  std::string key_file;        // the bus key (bus/bus_key.h); "": the bus is unauthenticated
 };
 
 // Returns the exit code: 0 done, 2 setup error, 3 no server.

@@ -1,5 +1,6 @@
 // igms-haptic --scene scenes/puma_obstacle.yaml --device scripted:scenes/push_demo.yaml [...]
 
+#include "bus/bus_key.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
 #include "haptic_client/app/haptic_client.h"
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene_path, "the server's scene file (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--device", o.device, "NAME[:ARGS], see below")->required();
   app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
+  app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--rate", o.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
   app.add_option("--deadline-us", o.deadline_us,
                  "while replies come back within this long, wait this long for this cycle's")

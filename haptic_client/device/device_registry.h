@@ -7,9 +7,11 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "bus/bus_key.h"
 #include "haptic_client/device/haptic_device.h"
 #include "haptic_client/device/workspace_map.h"
 
@@ -23,6 +25,7 @@ struct DeviceContext {
   // A link's index in the model (-1 when there is none of that name).
   std::function<int(const std::string& link)> frame_index;
   std::string lcm_url;  // the bus the client is on (a device may watch it or send commands)
+  std::optional<bus::BusKey> key;  // the bus key, for a device that watches or publishes
 };
 
 struct DeviceEntry {

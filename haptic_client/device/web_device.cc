@@ -48,7 +48,7 @@ bool flag(const json& m, const char* key, bool* out) {
 class WebDevice::Page {
  public:
   Page(WebDevice& device, const web::WebServerOptions& options, const DeviceContext& context)
-      : device_(device), context_(context), view_(options, 60.0), feed_(context.lcm_url, view_.bus()) {
+      : device_(device), context_(context), view_(options, 60.0), feed_(context.lcm_url, view_.bus(), context.key, "igms-haptic (web)") {
     view_.onPageMessage([this](int, bool authorized, const json& m) { return handle(authorized, m); });
     view_.frameExtra([this] { return extra(); });
     view_.statusExtra([this] {
@@ -114,9 +114,8 @@ class WebDevice::Page {
     } else {
       return PageMessage::Malformed;
     }
-    // The operator's key when one is set (IGMS_KEY, as igms-server --key), else the session token.
-    const char* key = std::getenv("IGMS_KEY");
-    c.auth = key && *key ? std::string(key) : std::to_string(view_.bus().serverToken());
+    // On a signed bus the signature is the proof (the key never goes out); else the session token.
+    c.auth = feed_.keyed() ? "" : std::to_string(view_.bus().serverToken());
     feed_.publish(channels::kCommand, c);
     ++commands_;
     return PageMessage::Handled;

@@ -19,17 +19,26 @@ ReceivedState initialState(int nlinks, int nq, int nv) {
 }
 }  // namespace
 
-ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id)
-    : client_id_(client_id), lcm_(url.empty() ? channels::kDefaultUrl : url), states_(initialState(nlinks, nq, nv)) {
+ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id,
+                     const std::optional<bus::BusKey>& key)
+    : client_id_(client_id),
+      lcm_(url.empty() ? channels::kDefaultUrl : url),
+      verifier_(key, "igms-haptic"),
+      input_signer_(key ? std::make_unique<bus::MessageSigner>(*key) : nullptr),
+      status_out_(lcm_, key, 16 * 1024),
+      input_channel_(channels::kHapticInput),
+      states_(initialState(nlinks, nq, nv)) {
   haptic_input_t probe{};
-  buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256);
+  buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256 + bus::kTrailerBytes);
   if (!lcm_.good()) return;
   lcm_.subscribe(channels::kRobotState, &ClientBus::onState, this)->setQueueCapacity(100);
   lcm_.subscribe(channels::kServerStatus, &ClientBus::onStatus, this);
 }
 
-void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-  if (!safeDecode(rbuf->data, rbuf->data_size, &state_msg_)) {
+void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+  if (!checked.accepted) return;  // counted by the verifier; never a state
+  if (!safeDecode(rbuf->data, checked.payload_bytes, &state_msg_)) {
     ++undecodable_;
     return;
   }
@@ -74,8 +83,10 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   states_.publish();
 }
 
-void ClientBus::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-  if (!safeDecode(rbuf->data, rbuf->data_size, &status_msg_)) {
+void ClientBus::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+  if (!checked.accepted) return;
+  if (!safeDecode(rbuf->data, checked.payload_bytes, &status_msg_)) {
     ++undecodable_;
     return;
   }
@@ -94,8 +105,11 @@ std::vector<std::string> ClientBus::serverLinkNames() {
 }
 
 void ClientBus::publishInput(const haptic_input_t& msg) {
-  const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n > 0) lcm_.publish(channels::kHapticInput, buffer_.data(), static_cast<unsigned>(n));
+  const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size() - bus::kTrailerBytes));
+  if (n <= 0) return;
+  const size_t size = input_signer_ ? input_signer_->sign(input_channel_, buffer_.data(), static_cast<size_t>(n))
+                                    : static_cast<size_t>(n);
+  lcm_.publish(input_channel_, buffer_.data(), static_cast<unsigned>(size));
 }
 
 }  // namespace igms

@@ -1,7 +1,10 @@
 // The client's side of the bus. In: robot states (decoded on the bus thread
 // into a triple buffer the servo loop takes from without locks) and the
-// server's status (its session token and link order). Out: the servo loop's
-// inputs as raw bytes from a preallocated buffer, and the client status.
+// server's status (its session token and link order), each checked first
+// (bus::MessageVerifier: with a bus key, only what the key signed and is new
+// gets through). Out: the servo loop's inputs as raw bytes from a
+// preallocated buffer, signed in place with a key, and the status thread's
+// messages through a publisher of their own.
 #pragma once
 
 #include <atomic>
@@ -10,6 +13,12 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+#include <optional>
+
+#include "bus/message_signer.h"
+#include "bus/message_verifier.h"
+#include "bus/signed_publisher.h"
 #include "core/realtime/triple_buffer.h"
 #include "haptic_client/servo/state_estimate.h"
 #include "igms/haptic_input_t.hpp"
@@ -27,9 +36,14 @@ class ClientBus {
  public:
   // nlinks, nq, nv: the scene's model; states of another shape are ignored.
   // client_id: this client's; each state names its hand among the others by it.
-  ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id = 1);
+  // key: the bus key (none: unauthenticated).
+  ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id = 1,
+            const std::optional<bus::BusKey>& key = std::nullopt);
   bool good() { return lcm_.good(); }
   lcm::LCM& lcm() { return lcm_; }
+  // The status thread's publisher (client status, bus status).
+  bus::SignedPublisher& statusOut() { return status_out_; }
+  const bus::MessageVerifier& verifier() const { return verifier_; }
 
   TripleBuffer<ReceivedState>& states() { return states_; }
   bool haveServer() const { return have_token_; }
@@ -49,6 +63,10 @@ class ClientBus {
  private:
   const int32_t client_id_;
   lcm::LCM lcm_;
+  bus::MessageVerifier verifier_;  // the bus thread's
+  std::unique_ptr<bus::MessageSigner> input_signer_;  // the servo loop's
+  bus::SignedPublisher status_out_;
+  const std::string input_channel_;
   TripleBuffer<ReceivedState> states_;
   std::atomic<int64_t> token_{0};
   std::atomic<bool> have_token_{false};

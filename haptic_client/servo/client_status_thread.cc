@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "bus/bus_status.h"
 #include "channels.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/udp_drops.h"
@@ -73,7 +74,10 @@ void ClientStatusThread::publishStatus(double now) {
   s.skipped_periods = stats_.skipped_periods;
   s.states_missed = bus_.statesMissed();
   s.socket_drops = ownUdpDrops();
-  bus_.lcm().publish(channels::kClientStatus, &s);
+  bus_.statusOut().publish(channels::kClientStatus, s);
+  if (s.seq % 10 == 0)
+    bus_.statusOut().publish(channels::kBusStatus,
+                             bus::busStatus("igms-haptic", bus_.statusOut().keyed(), {&bus_.verifier()}, s.utime));
 }
 
 }  // namespace igms

@@ -7,8 +7,11 @@
 #   igms_start_client SCENE DEVICE URL [client options] # background (another hand); igms_wait_clients waits
 #   igms_stop_all                                 # newest first: server, then logger (it hears the end)
 # Every process started here is stopped on any exit path (a trap on EXIT,
-# INT and TERM), so a failing script leaves nothing running.
+# INT and TERM), so a failing script leaves nothing running. The bus is
+# signed: the processes get IGMS_KEY_FILE, the caller's or a new key made for
+# this session (scripts/lib/bus_key.sh, removed at exit).
 # Binaries come from ${IGMS_BUILD:-build}.
+source "$(dirname "${BASH_SOURCE[0]}")/bus_key.sh"
 
 igms_build=${IGMS_BUILD:-build}
 igms_pids=()
@@ -32,10 +35,11 @@ igms_stop_all() {
   done
   igms_pids=()
 }
-trap igms_stop_all EXIT
-trap 'igms_stop_all; exit 130' INT TERM
+trap 'igms_stop_all; igms_drop_key' EXIT
+trap 'igms_stop_all; igms_drop_key; exit 130' INT TERM
 
 igms_start_logger() {  # LOG URL [options]
+  igms_use_key
   local log=$1 url=$2
   shift 2
   rm -f "$log"
@@ -45,6 +49,7 @@ igms_start_logger() {  # LOG URL [options]
 }
 
 igms_start_server() {  # SCENE URL [options]
+  igms_use_key
   local scene=$1 url=$2
   shift 2
   "$igms_build/server/igms-server" --scene "$scene" --lcm-url "$url" "$@" &
@@ -53,12 +58,14 @@ igms_start_server() {  # SCENE URL [options]
 }
 
 igms_run_client() {  # SCENE DEVICE URL [options]
+  igms_use_key
   local scene=$1 device=$2 url=$3
   shift 3
   "$igms_build/haptic_client/igms-haptic" --scene "$scene" --device "$device" --lcm-url "$url" "$@"
 }
 
 igms_start_client() {  # SCENE DEVICE URL [options]: a client in the background (another hand)
+  igms_use_key
   local scene=$1 device=$2 url=$3
   shift 3
   "$igms_build/haptic_client/igms-haptic" --scene "$scene" --device "$device" --lcm-url "$url" "$@" &

@@ -12,7 +12,7 @@ int contactPeriodSteps(double rate_hz, double contact_rate_hz) {
   return std::max(1, static_cast<int>(std::lround(rate_hz / contact_rate_hz)));
 }
 
-ContactPublisher::ContactPublisher(lcm::LCM& bus, int rows) : bus_(bus) {
+ContactPublisher::ContactPublisher(bus::SignedPublisher& bus, int rows) : bus_(bus) {
   const auto n = static_cast<size_t>(std::min(rows, kMaxPublishedContacts));
   // The generated encoder reads ncontacts, not the vectors' sizes: full-size rows, no allocation per message.
   msg_.link_a.assign(n, -1);
@@ -46,7 +46,7 @@ void ContactPublisher::publish(const Snapshot& s) {
   }
   const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   if (n <= 0) return;
-  bus_.publish(channels::kContacts, buffer_.data(), static_cast<unsigned>(n));
+  bus_.publish(channel_, buffer_.data(), static_cast<size_t>(n));
   ++sent_;
 }
 

@@ -3,9 +3,10 @@
 // the publishing thread only.
 #pragma once
 
-#include <lcm/lcm-cpp.hpp>
 #include <vector>
 
+#include "bus/signed_publisher.h"
+#include "channels.h"
 #include "igms/contacts_t.hpp"
 #include "server/loop/snapshot.h"
 
@@ -18,12 +19,13 @@ int contactPeriodSteps(double rate_hz, double contact_rate_hz);
 class ContactPublisher {
  public:
   // rows: the snapshots' contact rows (0: the scene has no contact, nothing is sent).
-  ContactPublisher(lcm::LCM& bus, int rows);
+  ContactPublisher(bus::SignedPublisher& bus, int rows);
   void publish(const Snapshot& s);
   int64_t sent() const { return sent_; }
 
  private:
-  lcm::LCM& bus_;
+  bus::SignedPublisher& bus_;
+  const std::string channel_{channels::kContacts};
   contacts_t msg_;
   std::vector<uint8_t> buffer_;
   int64_t sent_ = 0;

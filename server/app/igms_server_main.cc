@@ -1,5 +1,6 @@
 // igms-server --scene scenes/puma_wall.yaml [--lcm-url URL] [--clock realtime|lockstep] ...
 
+#include "bus/bus_key.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
 #include "server/app/server.h"
@@ -27,9 +28,7 @@ int main(int argc, char** argv) {
                  "ask for SCHED_FIFO at this priority (1-99) and lock memory; a warning and a normal process "
                  "when not allowed (0: do not ask)")
       ->check(CLI::Range(0, 99));
-  app.add_option("--key", o.commands.key,
-                 "commands must carry this key (default: $IGMS_KEY; without one, the session token)")
-      ->envname("IGMS_KEY");
+  app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--scene-dir", o.commands.scene_dirs, "LOAD_SCENE only from these folders (default: --scene's folder)")
       ->check(CLI::ExistingDirectory);
   app.add_option("--output-dir", o.commands.output_dir, "SAVE_TRAJECTORY only into this folder (default: .)")

@@ -8,6 +8,9 @@
 #include <random>
 #include <thread>
 
+#include "bus/bus_key.h"
+#include "bus/message_verifier.h"
+#include "bus/signed_publisher.h"
 #include "channels.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/deadline.h"
@@ -53,7 +56,7 @@ class BusThread {
 
 // Everything one scene runs with, composed.
 struct SceneParts {
-  SceneParts(lcm::LCM& bus, BusReceiver& receiver, std::unique_ptr<Simulation> s, const ServerOptions& o)
+  SceneParts(bus::SignedPublisher& bus, BusReceiver& receiver, std::unique_ptr<Simulation> s, const ServerOptions& o)
       : sim(std::move(s)),
         contact_rows(o.contact_rate > 0 && sim->contactModel() ? sim->contactModel()->capacity() : 0),
         ring(sim->model(), 512, contact_rows),
@@ -167,7 +170,7 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
   return 0;
 }
 
-void publishEditedTrajectory(lcm::LCM& bus, const Simulation& sim) {
+void publishEditedTrajectory(bus::SignedPublisher& bus, const Simulation& sim) {
   trajectory_t traj;
   traj.utime = wallMicros();
   traj.nq = sim.editedCount() > 0 ? static_cast<int32_t>(sim.editedPoint(0).size()) : 0;  // the first robot's q
@@ -178,12 +181,12 @@ void publishEditedTrajectory(lcm::LCM& bus, const Simulation& sim) {
     traj.q.emplace_back(row.data(), row.data() + row.size());
   }
   traj.npoints = static_cast<int32_t>(traj.t.size());
-  bus.publish(channels::kEditedTrajectory, &traj);
+  bus.publish(channels::kEditedTrajectory, traj);
 }
 
 // One scene from load to its end. Returns the exit code.
-int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver, LoopControl& control,
-             const ServerOptions& o, int64_t& token, const std::atomic<bool>& stop) {
+int runScene(const std::string& scene_path, lcm::LCM& bus, bus::SignedPublisher& out, BusReceiver& receiver,
+             LoopControl& control, const ServerOptions& o, int64_t& token, const std::atomic<bool>& stop) {
   std::unique_ptr<Simulation> sim;
   try {
     sim = std::make_unique<Simulation>(loadScene(scene_path));
@@ -198,7 +201,7 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver
   receiver.startSession(sim->model(), token);
   if (!o.quiet) printStart(*sim, scene_path, o, token);
   printWarnings(*sim);  // even with --quiet: a silent no-op is worse than a line
-  SceneParts p(bus, receiver, std::move(sim), o);
+  SceneParts p(out, receiver, std::move(sim), o);
   p.status.requestSessionInfo(token);
   p.publishing.start(o.clock == ServerOptions::Clock::Realtime);
   p.loop.setState(control.paused ? "paused" : runningWord(o));
@@ -215,19 +218,31 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, BusReceiver& receiver
   }
   if (code == 0 && !control.reload) p.loop.setState("stopped");
   p.publishing.finish();
-  if (!control.reload) publishEditedTrajectory(bus, *p.sim);
+  if (!control.reload) publishEditedTrajectory(out, *p.sim);  // the publishing thread has finished
   return code;
 }
 
 }  // namespace
 
-int runServer(const ServerOptions& o, const std::atomic<bool>& stop) {
+int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
+  std::optional<bus::BusKey> key;
+  try {
+    key = bus::busKeyFor("igms-server", options.key_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-server: %s\n", e.what());
+    return 2;
+  }
+  ServerOptions o = options;
+  o.commands.signed_bus = key.has_value();
   lcm::LCM bus(o.lcm_url.empty() ? channels::kDefaultUrl : o.lcm_url);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-server: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;
   }
-  BusReceiver receiver(bus);
+  // One publisher: the publishing thread's (the loop's in lockstep, and after the scene ends).
+  bus::SignedPublisher out(bus, key);
+  bus::MessageVerifier verifier(key, "igms-server");
+  BusReceiver receiver(bus, verifier);
   BusThread bus_thread(bus, o.clock == ServerOptions::Clock::Realtime);
   int64_t token = o.session_token ? o.session_token : randomToken();
   LoopControl control;
@@ -236,8 +251,12 @@ int runServer(const ServerOptions& o, const std::atomic<bool>& stop) {
   for (;;) {
     control.running = true;
     control.reload = false;
-    const int code = runScene(scene_path, bus, receiver, control, o, token, stop);
-    if (code != 0 || !control.reload || stop) return code;
+    const int code = runScene(scene_path, bus, out, receiver, control, o, token, stop);
+    if (code != 0 || !control.reload || stop) {
+      if (!o.quiet || verifier.counts().refusedTotal() > 0)
+        std::fprintf(stderr, "igms-server: bus: %s\n", verifier.summary().c_str());
+      return code;
+    }
     scene_path = control.scene_path;
   }
 }

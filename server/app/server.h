@@ -32,7 +32,8 @@ struct ServerOptions {
   double input_hold = 0.05;     // s: an input keeps acting this long without a newer one
   bool quiet = false;
   int rt_priority = 0;          // > 0: the loop asks for SCHED_FIFO at this priority and locks memory
-  CommandPolicy commands;       // key, scene folders, output folder
+  CommandPolicy commands;       // scene folders, output folder
+  std::string key_file;         // the bus key (bus/bus_key.h): sign and check every message; "": unauthenticated
   // Fault injection on the published states (tests of the client's fallback):
   double fault_drop = 0.0;       // fraction of states not published
   double fault_burst_ms = 0.0;   // every second, no states for this long

@@ -42,7 +42,7 @@ std::string stateTooLarge(const Model& m, const std::string& scene) {
          "): fewer bodies, or fewer links (fixed joints merge their links' bodies but keep their frames)";
 }
 
-StatePublisher::StatePublisher(lcm::LCM& bus, const Model& m, const std::vector<Obstacle>& obstacles,
+StatePublisher::StatePublisher(bus::SignedPublisher& bus, const Model& m, const std::vector<Obstacle>& obstacles,
                                FaultInjection faults, bool quiet)
     : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
   msg_ = sizedStateMessage(m);
@@ -114,11 +114,11 @@ void StatePublisher::publish(const Snapshot& s) {
   fill(s);
   checkCollisions(s);
   const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n > 0 && faults_.any()) bus_.publish(channels::kRobotStateTruth, buffer_.data(), static_cast<unsigned>(n));
+  if (n > 0 && faults_.any()) bus_.publish(truth_channel_, buffer_.data(), static_cast<size_t>(n));
   if (n > 0 && !faultDrops()) {
     if (faults_.delay_us > 0)
       std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(faults_.delay_us)));
-    bus_.publish(channels::kRobotState, buffer_.data(), static_cast<unsigned>(n));
+    bus_.publish(state_channel_, buffer_.data(), static_cast<size_t>(n));
   }
   stats_.last_sim_time = s.sim_time;
   stats_.step_times_us.push_back(s.step_us);

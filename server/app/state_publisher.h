@@ -6,12 +6,13 @@
 // re-simulates. Runs on the publishing thread only.
 #pragma once
 
-#include <lcm/lcm-cpp.hpp>
 #include <random>
 #include <vector>
 
 #include <string>
 
+#include "bus/signed_publisher.h"
+#include "channels.h"
 #include "igms/robot_state_t.hpp"
 #include "server/app/joint_limit_report.h"
 #include "server/collision/collision_world.h"
@@ -48,7 +49,7 @@ std::string stateTooLarge(const Model& model, const std::string& scene);
 
 class StatePublisher {
  public:
-  StatePublisher(lcm::LCM& bus, const Model& model, const std::vector<Obstacle>& obstacles, FaultInjection faults,
+  StatePublisher(bus::SignedPublisher& bus, const Model& model, const std::vector<Obstacle>& obstacles, FaultInjection faults,
                  bool quiet);
   void publish(const Snapshot& s);
   PublishStats& stats() { return stats_; }
@@ -58,7 +59,8 @@ class StatePublisher {
   void checkCollisions(const Snapshot& s);
   bool faultDrops();
 
-  lcm::LCM& bus_;
+  bus::SignedPublisher& bus_;
+  const std::string state_channel_{channels::kRobotState}, truth_channel_{channels::kRobotStateTruth};  // no allocation per message
   CollisionWorld world_;
   FaultInjection faults_;
   bool quiet_;

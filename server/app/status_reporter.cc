@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "bus/bus_status.h"
 #include "channels.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/udp_drops.h"
@@ -13,7 +14,7 @@
 
 namespace igms {
 
-StatusReporter::StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
+StatusReporter::StatusReporter(bus::SignedPublisher& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
                                LoopStatus& loop, bool quiet, double hold_s)
     : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), hold_s_(hold_s), scene_(sim.scene().source) {
   info_ = describeSession(sim, clock);
@@ -32,7 +33,7 @@ void StatusReporter::pumpSessionInfo() {
   if (!info_due_.exchange(false)) return;
   info_.utime = wallMicros();
   info_.session_token = token_;
-  bus_.publish(channels::kSessionInfo, &info_);
+  bus_.publish(channels::kSessionInfo, info_);
 }
 
 void StatusReporter::pumpStatus(PublishStats& published) {
@@ -99,8 +100,12 @@ void StatusReporter::publishStatus(PublishStats& p) {
     s.client_rejected.push_back(c.rejected);
   }
   s.nclients = static_cast<int32_t>(s.client_ids.size());
-  bus_.publish(channels::kServerStatus, &s);
-  if (seq_ % 10 == 1) requestSessionInfo(s.session_token);
+  bus_.publish(channels::kServerStatus, s);
+  if (seq_ % 10 == 1) {
+    requestSessionInfo(s.session_token);
+    bus_.publish(channels::kBusStatus,
+                 bus::busStatus("igms-server", bus_.keyed(), {&receiver_.verifier()}, s.utime));
+  }
   window_start_ = now;
   t.clear();
   if (!quiet_) print(s, p);

@@ -1,14 +1,14 @@
 // The server's status (IGMS_SERVER_STATUS, about 10 Hz, and one line on
-// stderr unless quiet) and the session info a replay needs
+// stderr unless quiet), its bus status (IGMS_BUS_STATUS, 1 Hz: the message checks' counts) and the session info a replay needs
 // (IGMS_SESSION_INFO: at the start, after a reset, and every second).
 // Runs on the publishing thread; any thread may ask for the session info.
 #pragma once
 
 #include <atomic>
-#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 
+#include "bus/signed_publisher.h"
 #include "core/simulation/simulation.h"
 #include "igms/server_status_t.hpp"
 #include "igms/session_info_t.hpp"
@@ -21,7 +21,7 @@ namespace igms {
 class StatusReporter {
  public:
   // hold_s: how long a client's input keeps its coupling acting (the status calls a client active within it).
-  StatusReporter(lcm::LCM& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
+  StatusReporter(bus::SignedPublisher& bus, const Simulation& sim, const std::string& clock, BusReceiver& receiver,
                  LoopStatus& loop, bool quiet, double hold_s);
 
   // A new session token: the next pump sends the session info with it.
@@ -36,7 +36,7 @@ class StatusReporter {
  private:
   void print(const server_status_t& s, const PublishStats& p) const;
 
-  lcm::LCM& bus_;
+  bus::SignedPublisher& bus_;
   BusReceiver& receiver_;
   LoopStatus& loop_;
   bool quiet_;

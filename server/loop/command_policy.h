@@ -1,6 +1,7 @@
-// Who may command the server, and where its files may be. Every command
-// must carry the operator's key (when the server has one: --key, IGMS_KEY)
-// or else the current session token; LOAD_SCENE reads scenes only below the
+// Who may command the server, and where its files may be. On a signed bus
+// (--key-file) a command that arrived has passed its signature check, which
+// is the proof; on an unauthenticated bus it must carry the current session
+// token in `auth`. LOAD_SCENE reads scenes only below the
 // configured scene folders, and SAVE_TRAJECTORY writes only below the output
 // folder (a relative name without "..", or an absolute path inside it).
 // Checked on the loop's thread before a command is applied; a refusal
@@ -17,7 +18,7 @@
 namespace igms {
 
 struct CommandPolicy {
-  std::string key;                      // "": the session token authorizes
+  bool signed_bus = false;              // commands were checked on arrival; else the session token authorizes
   std::vector<std::string> scene_dirs;  // LOAD_SCENE only below these
   std::string output_dir = ".";         // SAVE_TRAJECTORY only below this
 };

@@ -6,7 +6,7 @@
 
 namespace igms {
 
-BusReceiver::BusReceiver(lcm::LCM& bus) {
+BusReceiver::BusReceiver(lcm::LCM& bus, bus::MessageVerifier& verifier) : verifier_(verifier) {
   freeSlots();
   bus.subscribe(channels::kHapticInput, &BusReceiver::onInput, this)->setQueueCapacity(1000);
   bus.subscribe(channels::kCommand, &BusReceiver::onCommand, this)->setQueueCapacity(100);
@@ -24,11 +24,13 @@ void BusReceiver::newSession(int64_t token) {
   freeSlots();
 }
 
-void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+  if (!checked.accepted) return;  // counted by the verifier
   haptic_input_t msg;
   std::lock_guard<std::mutex> lock(mutex_);
   if (!gate_) return;
-  if (!safeDecode(rbuf->data, rbuf->data_size, &msg)) {
+  if (!safeDecode(rbuf->data, checked.payload_bytes, &msg)) {
     gate_->countUndecodable();
     return;
   }
@@ -54,9 +56,11 @@ void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string&) {
   ++counters_.inputs_accepted;
 }
 
-void BusReceiver::onCommand(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+void BusReceiver::onCommand(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+  if (!checked.accepted) return;  // counted by the verifier: applies nothing
   command_t cmd;
-  const bool decoded = safeDecode(rbuf->data, rbuf->data_size, &cmd);
+  const bool decoded = safeDecode(rbuf->data, checked.payload_bytes, &cmd);
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.commands_received;
   if (!decoded || commands_.size() >= kMaxQueuedCommands) {

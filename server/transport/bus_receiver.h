@@ -1,4 +1,6 @@
-// The server's bus side: haptic inputs and commands from LCM. Inputs are
+// The server's bus side: haptic inputs and commands from LCM. Every message
+// is first checked (bus::MessageVerifier: its signature on a signed bus);
+// what fails is counted there and goes no further. Inputs are
 // validated (InputGate: rejected and counted by reason) and each client's
 // newest admitted one is handed to the step lock-free in that client's hand
 // slot (hand_slots.h); commands are queued for the
@@ -13,6 +15,7 @@
 #include <mutex>
 #include <vector>
 
+#include "bus/message_verifier.h"
 #include "igms/command_t.hpp"
 #include "server/transport/hand_slots.h"
 #include "server/transport/input_gate.h"
@@ -32,7 +35,7 @@ class BusReceiver {
   // A hand slot whose client has sent nothing for this long is given to a new client.
   static constexpr double kSlotReclaimS = 1.0;
 
-  explicit BusReceiver(lcm::LCM& bus);
+  BusReceiver(lcm::LCM& bus, bus::MessageVerifier& verifier);
   // A model (a scene was loaded) and a session token: inputs are judged against them.
   void startSession(const Model& model, int64_t token);
   // A reset: the same model, a new token, the clients' sequence numbers forgotten.
@@ -45,11 +48,13 @@ class BusReceiver {
   // receiver holds its lock right now (the loop tries again next step).
   bool takeCommands(std::deque<command_t>* out);
   BusCounters counters();
+  const bus::MessageVerifier& verifier() const { return verifier_; }
 
   void onInput(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
   void onCommand(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
 
  private:
+  bus::MessageVerifier& verifier_;  // used on the receiving thread only
   std::mutex mutex_;  // guards gate_, commands_, counters_ (never taken by the step itself)
   std::unique_ptr<InputGate> gate_;
   std::deque<command_t> commands_;

@@ -70,7 +70,7 @@ class Processes:
 
 def status(base_url):
     """The igms web process's counters (GET /status.json)."""
-    with urllib.request.urlopen(base_url.split("?")[0].rstrip("/") + "/status.json", timeout=5) as r:
+    with urllib.request.urlopen(base_url.split("#")[0].split("?")[0].rstrip("/") + "/status.json", timeout=5) as r:
         return json.load(r)
 
 

@@ -15,7 +15,7 @@ live=$!
 for _ in $(seq 100); do grep -q "watch only" "$out/live.txt" && break; sleep 0.1; done
 cat "$out/live.txt"
 device=$(sed -n 's/.*(your mouse is the device): //p' "$out/live.txt")
-[[ $device == http://127.0.0.1:17893/?token=* ]] || { echo "FAIL: no device URL with a token"; exit 1; }
+[[ $device == http://127.0.0.1:17893/#token=* ]] || { echo "FAIL: no device URL with a token"; exit 1; }
 grep -q "watch only: *http://127.0.0.1:17894/" "$out/live.txt" || { echo "FAIL: no watch-only URL"; exit 1; }
 timeout 60 chromium --headless --no-sandbox --use-gl=swiftshader --enable-unsafe-swiftshader --window-size=800,600 \
   --screenshot="$out/shot.png" --virtual-time-budget=4000 "$device" 2>/dev/null

@@ -230,6 +230,21 @@ def body(checks, open_browser):
     bs.wait_for("the viewer's hello", lambda: viewer.state("hello"))
     viewer.wait_frames(5)
     checks.check(viewer.state("role") == "viewer", "a page without the token is a viewer")
+    # Another site in the same browser (the viewer's page: another port, another origin) that knows the
+    # token still cannot open the device's WebSocket: its Origin is refused and counted.
+    before = bs.status(device_url)
+    device_host = device_url.split("//")[1].split("/")[0]
+    viewer.js("""
+        window.crossSite = 'pending';
+        const ws = new WebSocket('ws://%s/ws?token=%s');
+        ws.onopen = () => { window.crossSite = 'open'; ws.send(JSON.stringify({type: 'command', kind: 'pause'})); };
+        ws.onerror = () => { window.crossSite = 'refused'; };""" % (device_host, device_url.split("#token=")[1]))
+    crossed = bs.wait_for("the cross-site socket's end",
+                          lambda: (lambda r: r if r != "pending" else None)(viewer.js("return window.crossSite")), timeout=5)
+    after = bs.status(device_url)
+    checks.check(crossed == "refused" and after["rejected_origin"] == before["rejected_origin"] + 1,
+                 "another site's page cannot open the device's WebSocket, even with the token",
+                 "%s, rejected_origin %d -> %d" % (crossed, before["rejected_origin"], after["rejected_origin"]))
     checks.check(bs.distinct_colours(viewer.canvas_pixels()) > 20, "the viewer draws the robot")
 
     # Stopping the server: the banner; a new server: the banner goes and the new session is drawn.

@@ -195,7 +195,8 @@ TEST(BusReceiver, AFifthHandIsRefusedWhileFourAreActive) {
   Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
   lcm::LCM bus("memq://");
   ASSERT_TRUE(bus.good());
-  BusReceiver receiver(bus);
+  bus::MessageVerifier verifier(std::nullopt, "stepper_test");
+  BusReceiver receiver(bus, verifier);
   receiver.startSession(sim.model(), 5);
   std::vector<uint8_t> buffer(4096);
   auto send = [&](int32_t client, int64_t seq) {

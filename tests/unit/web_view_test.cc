@@ -320,7 +320,7 @@ struct WsResult {
   std::string first_message;
 };
 
-WsResult wsSession(int port, const std::string& query, const std::string& text) {
+WsResult wsSession(int port, const std::string& query, const std::string& text, const std::string& origin = "") {
   using Client = websocketpp::client<websocketpp::config::asio_client>;
   Client c;
   c.clear_access_channels(websocketpp::log::alevel::all);
@@ -340,12 +340,28 @@ WsResult wsSession(int port, const std::string& query, const std::string& text) 
   websocketpp::lib::error_code ec;
   Client::connection_ptr con = c.get_connection("ws://127.0.0.1:" + std::to_string(port) + "/ws" + query, ec);
   if (ec) return r;
+  if (!origin.empty()) con->replace_header("Origin", origin);
   c.connect(con);
   std::thread t([&] { c.run(); });
   for (int i = 0; i < 200 && r.first_message.empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   c.stop();
   t.join();
   return r;
+}
+
+TEST(WebServer, AWebSocketMustComeFromThePagesOwnOrigin) {
+  using igms::web::sameOrigin;
+  EXPECT_TRUE(sameOrigin("", "127.0.0.1:8081", "127.0.0.1", 8081));  // not a browser
+  EXPECT_TRUE(sameOrigin("http://127.0.0.1:8081", "127.0.0.1:8081", "127.0.0.1", 8081));
+  EXPECT_TRUE(sameOrigin("http://localhost:8081", "localhost:8081", "127.0.0.1", 8081));
+  EXPECT_FALSE(sameOrigin("http://evil.example", "127.0.0.1:8081", "127.0.0.1", 8081));
+  EXPECT_FALSE(sameOrigin("http://127.0.0.1:8080", "127.0.0.1:8081", "127.0.0.1", 8081));  // another port: another site
+  EXPECT_FALSE(sameOrigin("null", "127.0.0.1:8081", "127.0.0.1", 8081));  // a sandboxed or file:// page
+  // DNS rebinding: a name that resolves to 127.0.0.1 is still not this machine's page.
+  EXPECT_FALSE(sameOrigin("http://rebind.example:8081", "rebind.example:8081", "127.0.0.1", 8081));
+  // Served on the LAN (--bind 0.0.0.0): the page's own host, whatever its name.
+  EXPECT_TRUE(sameOrigin("http://lab-pc:8081", "lab-pc:8081", "0.0.0.0", 8081));
+  EXPECT_FALSE(sameOrigin("http://evil.example", "lab-pc:8081", "0.0.0.0", 8081));
 }
 
 TEST(WebServer, RoutesTokenAndCounters) {
@@ -369,7 +385,7 @@ TEST(WebServer, RoutesTokenAndCounters) {
   server.start();
   const int port = server.port();
   ASSERT_GT(port, 0);
-  EXPECT_EQ(server.url(true), "http://127.0.0.1:" + std::to_string(port) + "/?token=abc123");
+  EXPECT_EQ(server.url(true), "http://127.0.0.1:" + std::to_string(port) + "/#token=abc123");
 
   std::string r = httpGet(port, "/");
   EXPECT_EQ(httpStatus(r), 200);
@@ -399,11 +415,17 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(opened_without.load(), 2);
   for (int i = 0; i < 100 && messages.load() < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(messages.load(), 3);
+  // Another site's page (its Origin) gets no WebSocket, token or not; the page's own origin does.
+  const std::string own = "http://127.0.0.1:" + std::to_string(port);
+  EXPECT_FALSE(wsSession(port, "?token=abc123", "{}", "http://evil.example").opened);
+  EXPECT_FALSE(wsSession(port, "?token=abc123", "{}", "http://127.0.0.1:1").opened);
+  EXPECT_EQ(wsSession(port, "?token=abc123", "{}", own).first_message, "device");
   // Over the size limit: dropped (the connection closes), counted, the server goes on.
   wsSession(port, "", std::string(64 * 1024, 'x'));
   const nlohmann::json s = nlohmann::json::parse(igms::test::httpBody(httpGet(port, "/status.json")));
   EXPECT_GE(s["http_not_found"].get<int>(), 5);
-  EXPECT_EQ(s["messages"].get<int>(), 3);
+  EXPECT_EQ(s["messages"].get<int>(), 4);
+  EXPECT_EQ(s["rejected_origin"].get<int>(), 2);
   EXPECT_EQ(s["rejected_malformed"].get<int>(), 1);
   EXPECT_EQ(httpStatus(httpGet(port, "/")), 200);
 }

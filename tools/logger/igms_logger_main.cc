@@ -10,6 +10,12 @@
 // was full are counted per channel and reported. The first event of each log
 // file is the server's session_info (scene, model hash, build), held back for
 // up to --wait-session-s while it has not been seen.
+//
+// With the bus key (--key-file) every message is checked as it arrives: what
+// passes is recorded as it came (signature and all, so the check can be made
+// again); what fails is recorded under "REFUSED:<reason>:<channel>", so the
+// log keeps what arrived and whether its signature held, and nothing
+// replays a refused message onto a real channel.
 
 #include <atomic>
 #include <chrono>
@@ -27,6 +33,8 @@
 #include <vector>
 #include <unistd.h>
 
+#include "bus/bus_key.h"
+#include "bus/message_verifier.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -44,7 +52,7 @@ struct Options {
   bool allow_empty = false;  // an empty log is an error unless asked for
   int rotate = 0;
   size_t queue = 20000;
-  std::string lcm_url, stats_file;
+  std::string lcm_url, stats_file, key_file;
 };
 
 bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
@@ -87,11 +95,16 @@ struct Queued {
 
 class Logger {
  public:
-  explicit Logger(const Options& o) : o_(o), filter_(o.channel_regex), naming_(o) {}
+  Logger(const Options& o, std::optional<igms::bus::BusKey> key)
+      : o_(o), filter_(o.channel_regex), naming_(o), verifier_(std::move(key), "igms-logger") {}
 
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& received_on) {
     // The bus thread: copy and queue, never the disk.
-    if (std::regex_match(channel, filter_) == o_.invert) return;
+    if (std::regex_match(received_on, filter_) == o_.invert) return;
+    const igms::bus::Verdict checked =
+        verifier_.check(received_on, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
+    const std::string channel =
+        checked.accepted ? received_on : std::string("REFUSED:") + igms::bus::refusalName(checked.why) + ":" + received_on;
     std::lock_guard<std::mutex> lock(mutex_);
     ++received_[channel];
     if (queue_.size() >= o_.queue) {
@@ -170,11 +183,18 @@ class Logger {
     for (const auto& [c, n] : received_) received += n;
     for (const auto& [c, n] : dropped_) dropped += n;
     if (json) {
+      const igms::bus::VerifierCounts c = verifier_.counts();
+      nlohmann::json refused = nlohmann::json::object();
+      for (int k = 0; k < igms::bus::kRefusals; ++k)
+        refused[igms::bus::refusalName(static_cast<igms::bus::Refusal>(k))] = c.refused[static_cast<size_t>(k)];
       const nlohmann::json stats = {{"received", received},
                                     {"written", written_},
                                     {"dropped", dropped},
                                     {"files", files_},
-                                    {"dropped_by_channel", dropped_}};
+                                    {"dropped_by_channel", dropped_},
+                                    {"keyed", verifier_.keyed()},
+                                    {"verified", c.accepted},
+                                    {"refused", refused}};
       // Channel names come off the bus: bytes that are not UTF-8 are replaced, never a throw.
       std::fprintf(out, "%s\n", stats.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
       return;
@@ -184,6 +204,7 @@ class Logger {
                  files_.size());
     for (const auto& [c, n] : dropped_)
       std::fprintf(out, "igms-logger:   dropped %lld on %s\n", static_cast<long long>(n), c.c_str());
+    std::fprintf(out, "igms-logger: bus: %s\n", verifier_.summary().c_str());
   }
 
  private:
@@ -208,6 +229,7 @@ class Logger {
   const Options& o_;
   std::regex filter_;
   Naming naming_;
+  igms::bus::MessageVerifier verifier_;  // the bus thread's
   std::mutex mutex_;
   std::condition_variable ready_;
   std::deque<Queued> queue_;
@@ -258,6 +280,7 @@ int parseOptions(int argc, char** argv, Options* o) {
   app.add_option("--wait-session-s", o->wait_session_s, "hold messages this long for the session info to come first")
       ->check(igms::cli::Seconds);
   app.add_option("--stats-file", o->stats_file, "write the final counts here as JSON");
+  app.add_option("--key-file", o->key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--slow-disk-us", o->slow_disk_us, "(tests) sleep this long per write")
       ->check(igms::cli::nonNegative("US"));
   app.add_option("--silence-s", o->silence_s, "say so on stderr when nothing has been heard for this long")
@@ -277,7 +300,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "igms-logger: cannot open LCM\n");
     return 2;
   }
-  Logger logger(o);
+  std::optional<igms::bus::BusKey> key;
+  try {
+    key = igms::bus::busKeyFor("igms-logger", o.key_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-logger: %s\n", e.what());
+    return 2;
+  }
+  Logger logger(o, key);
   bus.subscribe(".*", &Logger::onMessage, &logger)->setQueueCapacity(100000);
   std::atomic<bool> writer_stop{false};
   std::thread writer([&] {

@@ -3,6 +3,9 @@
 // client's channels up and the server's down, each direction through its own
 // DelayLine (delay, jitter, loss, reordering), and counts what it did. The
 // kernel here has no netem; this is the user-space equivalent for LCM.
+// Signed messages pass through unchanged (the signature holds end to end);
+// with the bus key the relay also checks each one and forwards only what
+// passes, counting the rest.
 //   igms-relay --client-url URL --server-url URL [--delay-ms D] [--jitter-ms J] [--loss P]
 //              [--up-delay-ms ...] [--down-loss ...] [--in-order] [--seed N] [--duration S]
 
@@ -16,6 +19,8 @@
 #include <regex>
 #include <string>
 
+#include "bus/bus_key.h"
+#include "bus/message_verifier.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
 #include "tools/relay/delay_line.h"
@@ -36,6 +41,7 @@ struct Options {
   bool in_order = false;
   unsigned seed = 1;
   double duration = 0, status_s = 0;
+  std::string key_file;
 };
 
 igms::PathFaults faults(const Options& o, double delay, double jitter, double loss) {
@@ -51,12 +57,14 @@ igms::PathFaults faults(const Options& o, double delay, double jitter, double lo
 class Path {
  public:
   Path(const char* name, lcm::LCM& from, lcm::LCM& to, const std::string& channels, const igms::PathFaults& f,
-       uint32_t seed)
-      : name_(name), to_(to), line_(f, seed) {
+       uint32_t seed, const std::optional<igms::bus::BusKey>& key)
+      : name_(name), to_(to), line_(f, seed), verifier_(key, "igms-relay") {
     from.subscribe(channels, &Path::onMessage, this)->setQueueCapacity(100000);
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    line_.admit(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size, now());
+    const auto* data = static_cast<const uint8_t*>(rbuf->data);
+    if (!verifier_.check(channel, data, rbuf->data_size).accepted) return;  // counted
+    line_.admit(channel, data, rbuf->data_size, now());
   }
   void release(double t) {
     while (line_.popDue(t, &held_)) to_.publish(held_.channel, held_.data.data(), static_cast<unsigned>(held_.data.size()));
@@ -71,6 +79,7 @@ class Path {
                  name_, f.delay_ms, f.jitter_ms, f.loss, static_cast<long long>(c.received),
                  static_cast<long long>(c.forwarded), static_cast<long long>(c.dropped),
                  static_cast<long long>(c.overflowed), static_cast<long long>(c.reordered), c.max_queued);
+    if (verifier_.keyed()) std::fprintf(stderr, "igms-relay:   %s: bus: %s\n", name_, verifier_.summary().c_str());
   }
 
  private:
@@ -78,18 +87,26 @@ class Path {
   lcm::LCM& to_;
   igms::DelayLine line_;
   igms::HeldMessage held_;
+  igms::bus::MessageVerifier verifier_;
 };
 
 int run(const Options& o, const std::atomic<bool>& stop) {
+  std::optional<igms::bus::BusKey> key;
+  try {
+    if (!o.key_file.empty()) key = igms::bus::loadBusKey(o.key_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-relay: %s\n", e.what());
+    return 2;
+  }
   lcm::LCM client(o.client_url), server(o.server_url);
   if (!client.good() || !server.good()) {
     std::fprintf(stderr, "igms-relay: cannot open LCM at %s\n", (client.good() ? o.server_url : o.client_url).c_str());
     return 2;
   }
   Path up("up (client to server)", client, server, o.up_channels, faults(o, o.up_delay_ms, o.up_jitter_ms, o.up_loss),
-          o.seed);
+          o.seed, key);
   Path down("down (server to client)", server, client, o.down_channels,
-            faults(o, o.down_delay_ms, o.down_jitter_ms, o.down_loss), o.seed + 1);
+            faults(o, o.down_delay_ms, o.down_jitter_ms, o.down_loss), o.seed + 1, key);
   std::fprintf(stderr, "igms-relay: client side %s, server side %s\n", o.client_url.c_str(), o.server_url.c_str());
   const double start = now();
   double next_status = start + o.status_s;
@@ -127,6 +144,10 @@ int main(int argc, char** argv) {
   app.add_option("--server-url", o.server_url, "the URL the server uses (another port or group)")
       ->required()
       ->check(igms::cli::LcmUrl);
+  app.add_option("--key-file", o.key_file,
+                 "forward only messages signed with the bus key in this file, counting the rest (default: "
+                 "$IGMS_KEY_FILE; without one, everything is forwarded and the signatures hold end to end)")
+      ->envname(igms::bus::kKeyFileEnv);
   app.add_option("--delay-ms", o.delay_ms, "one-way delay, both directions")->check(igms::cli::nonNegative("MS"));
   app.add_option("--jitter-ms", o.jitter_ms, "uniform jitter +- this, both directions")
       ->check(igms::cli::nonNegative("MS"));

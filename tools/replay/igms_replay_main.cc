@@ -27,6 +27,9 @@
 #include <thread>
 #include <vector>
 
+#include "bus/bus_key.h"
+#include "bus/message_signature.h"
+#include "bus/signed_publisher.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/kinematics/forward_kinematics.h"
@@ -82,6 +85,7 @@ struct PlayOptions {
   bool fast = false, loop = false, step = false;
   std::string regex = ".*", url;
   std::vector<std::string> remaps;  // FROM=TO
+  std::string key_file;              // re-sign every event as this process (a keyed bus)
 };
 
 int play(const std::string& path, const PlayOptions& o) {
@@ -89,11 +93,22 @@ int play(const std::string& path, const PlayOptions& o) {
   for (const auto& r : o.remaps) remap[r.substr(0, r.find('='))] = r.substr(r.find('=') + 1);
   const auto c = load(path);
   if (c.events.empty()) return 1;
+  std::optional<igms::bus::BusKey> key;
+  try {
+    key = igms::bus::busKeyFor("igms-replay", o.key_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-replay: %s\n", e.what());
+    return 2;
+  }
   lcm::LCM bus(o.url.empty() ? igms::channels::kDefaultUrl : o.url);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-replay: cannot open LCM at %s\n", o.url.c_str());
     return 2;
   }
+  // A replay is a sender of its own: the recorded signature (if any) comes off, and with a key a new one goes on,
+  // so a receiver that heard the session live takes the replay too.
+  igms::bus::SignedPublisher out(bus, key);
+  int64_t refused_skipped = 0;
   const std::regex filter(o.regex);
   const double speed = o.speed, start = o.start, end = o.end;
   const bool fast = o.fast, loop = o.loop, step = o.step;
@@ -106,6 +121,10 @@ int play(const std::string& path, const PlayOptions& o) {
       if (igms::stopRequested()) break;
       const double t = 1e-6 * static_cast<double>(e.utime - t0);
       if (t < start || t > end || !std::regex_match(e.channel, filter)) continue;
+      if (e.channel.rfind("REFUSED:", 0) == 0) {  // refused when recorded: never onto a real channel
+        ++refused_skipped;
+        continue;
+      }
       if (step) {
         std::fprintf(stderr, "igms-replay: t=%.6f %s (%zu bytes) [enter]", t, e.channel.c_str(), e.data.size());
         std::string line;
@@ -115,11 +134,18 @@ int play(const std::string& path, const PlayOptions& o) {
                                                   std::chrono::duration<double>((t - first) / speed)));
       }
       auto it = remap.find(e.channel);
-      bus.publish(it == remap.end() ? e.channel : it->second, e.data.data(), static_cast<unsigned>(e.data.size()));
+      igms::bus::Trailer trailer;
+      const size_t size = igms::bus::findTrailer(e.data.data(), e.data.size(), &trailer) ? trailer.payload_bytes
+                                                                                        : e.data.size();
+      out.publish(it == remap.end() ? e.channel : it->second, e.data.data(), size);
       ++published;
     }
   } while (loop && published > 0 && !igms::stopRequested());
-  std::fprintf(stderr, "igms-replay: published %lld events\n", static_cast<long long>(published));
+  std::fprintf(stderr, "igms-replay: published %lld events%s\n", static_cast<long long>(published),
+               key ? ", signed with the bus key" : "");
+  if (refused_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld events the logger had refused (REFUSED:...)\n",
+                 static_cast<long long>(refused_skipped));
   if (published == 0 && !igms::stopRequested()) {
     const std::string until = end > 1e12 ? std::string("the end") : std::to_string(end) + " s";
     std::fprintf(stderr, "igms-replay: nothing in %s matched --channel '%s' between %.3f s and %s\n", path.c_str(),
@@ -376,6 +402,8 @@ int main(int argc, char** argv) {
   play_cmd->add_option("--speed", play_options.speed, "times real time")->check(igms::cli::positive("X"));
   play_cmd->add_flag("--fast", play_options.fast, "as fast as possible");
   play_cmd->add_option("--channel", play_options.regex, "only these channels (a regular expression)");
+  play_cmd->add_option("--key-file", play_options.key_file, igms::bus::kKeyFileHelp)
+      ->envname(igms::bus::kKeyFileEnv);
   play_cmd->add_option("--remap", play_options.remaps, "publish channel FROM as TO (repeatable)")
       ->allow_extra_args(false)
       ->check(CLI::Validator([](std::string& r) { return r.find('=') == std::string::npos ? "wants FROM=TO" : ""; },

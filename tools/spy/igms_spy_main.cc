@@ -17,6 +17,9 @@
 #include <thread>
 #include <vector>
 
+#include "bus/bus_key.h"
+#include "bus/message_verifier.h"
+#include "igms/bus_status_t.hpp"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -120,6 +123,23 @@ bool summarize<igms::trajectory_t>(const uint8_t* d, int n, std::string* name, s
   *seq = -1;
   return true;
 }
+// Every program's, once a second: the message checks' counts (several programs share the channel).
+template <>
+bool summarize<igms::bus_status_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::bus_status_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "bus_status_t";
+  int64_t refused = 0;
+  for (int64_t r : m.refused) refused += r;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s %s: accepted %lld refused %lld (unsigned %lld, bad signature %lld, replayed %lld)",
+                m.program.c_str(), m.keyed ? "signs" : "no key", static_cast<long long>(m.accepted),
+                static_cast<long long>(refused), static_cast<long long>(m.refused[0]),
+                static_cast<long long>(m.refused[1]), static_cast<long long>(m.refused[2]));
+  *line = buf;
+  *seq = -1;
+  return true;
+}
 
 struct Decoder {
   int64_t hash;
@@ -133,6 +153,8 @@ Decoder decoder() {
 
 struct Channel {
   int64_t count = 0, bytes = 0, undecodable = 0, seq_gaps = 0, last_seq = -1;
+  int64_t refused = 0;   // failed the message check (with a bus key): counted, never decoded
+  bool signed_ = false;  // the newest message carried a signature
   std::vector<double> arrivals;  // within the window
   std::vector<int64_t> sizes;
   std::string type, latest;
@@ -141,10 +163,12 @@ struct Channel {
 
 class Spy {
  public:
-  explicit Spy(const std::string& filter) : filter_(filter) {
+  Spy(const std::string& filter, std::optional<igms::bus::BusKey> key)
+      : filter_(filter), verifier_(std::move(key), "igms-spy") {
     decoders_ = {decoder<igms::robot_state_t>(), decoder<igms::haptic_input_t>(), decoder<igms::server_status_t>(),
                  decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
-                 decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>()};
+                 decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>(),
+                 decoder<igms::bus_status_t>()};
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     if (!std::regex_match(channel, filter_)) return;
@@ -156,7 +180,14 @@ class Spy {
     c.arrivals.push_back(t);
     c.sizes.push_back(rbuf->data_size);
     const auto* d = static_cast<const uint8_t*>(rbuf->data);
-    const int n = static_cast<int>(rbuf->data_size);
+    igms::bus::Trailer trailer;
+    c.signed_ = igms::bus::findTrailer(d, rbuf->data_size, &trailer);
+    const igms::bus::Verdict checked = verifier_.check(channel, d, rbuf->data_size);
+    if (!checked.accepted) {
+      ++c.refused;
+      return;
+    }
+    const int n = static_cast<int>(checked.payload_bytes);
     // Which igms type, by the fingerprint in the first 8 bytes.
     const bool igms_channel = channel.rfind("IGMS_", 0) == 0;
     int64_t hash = 0;
@@ -207,14 +238,15 @@ class Spy {
       if (json) {
         snapshot[name] = {{"count", c.count},       {"rate_hz", rate},       {"jitter_ms", jitter},
                           {"bytes_per_s", bw},      {"seq_gaps", c.seq_gaps}, {"undecodable", c.undecodable},
-                          {"type", c.type}};
+                          {"type", c.type},         {"refused", c.refused},   {"signed", c.signed_}};
       } else {
         if (first)
-          std::fprintf(out, "%-24s %9s %9s %9s %10s %6s %6s  %s\n", "channel", "count", "rate Hz", "jitter ms",
-                       "kB/s", "gaps", "bad", "type / latest");
-        std::fprintf(out, "%-24s %9lld %9.1f %9.3f %10.1f %6lld %6lld  %s\n", name.c_str(),
+          std::fprintf(out, "%-24s %9s %9s %9s %10s %6s %6s %7s  %s\n", "channel", "count", "rate Hz", "jitter ms",
+                       "kB/s", "gaps", "bad", "refused", "type / latest");
+        std::fprintf(out, "%-24s %9lld %9.1f %9.3f %10.1f %6lld %6lld %7lld  %s%s\n", name.c_str(),
                      static_cast<long long>(c.count), rate, jitter, bw / 1e3, static_cast<long long>(c.seq_gaps),
-                     static_cast<long long>(c.undecodable), c.type.empty() ? "(not an igms type)" : c.type.c_str());
+                     static_cast<long long>(c.undecodable), static_cast<long long>(c.refused),
+                     c.type.empty() ? "(not an igms type)" : c.type.c_str(), c.signed_ ? " (signed)" : "");
         if (!c.latest.empty()) std::fprintf(out, "%-24s   %s\n", "", c.latest.c_str());
       }
       first = false;
@@ -234,6 +266,7 @@ class Spy {
 
  private:
   std::regex filter_;
+  igms::bus::MessageVerifier verifier_;  // the bus thread's
   std::mutex mutex_;
   std::map<std::string, Channel> channels_;
   std::vector<Decoder> decoders_;
@@ -254,6 +287,11 @@ int main(int argc, char** argv) {
   app.add_option("--window", window, "seconds each figure is measured over")->check(igms::cli::positive("SECONDS"));
   app.add_flag("--json", json, "JSON instead of a table");
   app.add_option("--channel", filter, "only these channels (a regular expression)");
+  std::string key_file;
+  app.add_option("--key-file", key_file,
+                 "check every message with the bus key in this file: what fails is counted as refused, not "
+                 "decoded (default: $IGMS_KEY_FILE)")
+      ->envname(igms::bus::kKeyFileEnv);
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   std::atomic<bool>& g_stop = igms::stopOnSignals();
   lcm::LCM bus(url.empty() ? igms::channels::kDefaultUrl : url);
@@ -261,7 +299,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "igms-spy: cannot open LCM\n");
     return 2;
   }
-  Spy spy(filter);
+  std::optional<igms::bus::BusKey> key;
+  try {
+    if (!key_file.empty()) key = igms::bus::loadBusKey(key_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-spy: %s\n", e.what());
+    return 2;
+  }
+  Spy spy(filter, key);
   bus.subscribe(".*", &Spy::onMessage, &spy)->setQueueCapacity(100000);
   const double start = now();
   double next_draw = start + 0.5;

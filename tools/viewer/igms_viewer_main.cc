@@ -7,6 +7,7 @@
 #include <memory>
 #include <thread>
 
+#include "bus/bus_key.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -55,6 +56,8 @@ int main(int argc, char** argv) {
                       "from the server's session info. With --log it plays a recorded session with a timeline. "
                       "Prints the page's URL as its first line. Run it inside scripts/netns_run.sh with a udpm:// URL.");
   app.add_option("--lcm-url", url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
+  std::string key_file;
+  app.add_option("--key-file", key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--port", web.port, "HTTP port (0: any free port)")->check(CLI::Range(0, 65535));
   app.add_option("--bind", web.bind, "address to listen on (default 127.0.0.1: this machine only)");
   app.add_option("--log", log_path, "play this recorded session (.lcmlog or .lcmlog.gz) instead of the bus")
@@ -77,7 +80,7 @@ int main(int argc, char** argv) {
       view.clock([p] { return p->time(); });
       view.frameExtra([p] { return p->timelineJson(); });
     } else {
-      feed = std::make_unique<igms::web::BusFeed>(url, view.bus());
+      feed = std::make_unique<igms::web::BusFeed>(url, view.bus(), igms::bus::busKeyFor("igms-viewer", key_file));
     }
     view.onPageMessage([p = player.get()](int, bool, const nlohmann::json& m) { return replayControl(p, m); });
     view.start();

@@ -74,7 +74,11 @@ const robot = new RobotView(scene, { software: SOFTWARE });
 const contacts = new ContactView(scene);
 const hud = new Hud();
 const params = new URLSearchParams(window.location.search);
-const token = params.get('token');
+// The token rides in the URL's fragment (#token=...), which the browser never sends to a server.
+const token = new URLSearchParams(window.location.hash.slice(1)).get('token');
+// Another token in the same tab (a new session's URL pasted in): a browser does not reload for a
+// fragment, so the page does, and connects with it.
+window.addEventListener('hashchange', () => window.location.reload());
 
 let socket = null;
 function send(message) {

@@ -1,0 +1,57 @@
+// What a signed message looks like on the bus, and the MAC both ends compute.
+//
+//   payload (the LCM message, unchanged) | "IGB1" | sender (16) | counter (8, big-endian) | tag (16)
+//
+// The trailer sits after the payload, so a reader without the key decodes the
+// message as before (LCM's decoders stop at the message's end). The tag is
+// AES-256-GMAC (OpenSSL) over the channel's name, the payload and the trailer
+// up to the tag, under a key of the sender's own: HMAC-SHA256(bus key,
+// "igms bus v1" | sender). The sender is 16 random bytes a process draws at
+// start, the counter goes up with every message it sends, and the GCM nonce is
+// the counter: with a key per sender, no nonce is used twice. GMAC, not an HMAC,
+// because it costs 1.4 us at the robot state's 5.2 kB where HMAC-SHA256 costs
+// 6 us (bench/bus_signature_bench).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "bus/bus_key.h"
+
+typedef struct evp_cipher_ctx_st EVP_CIPHER_CTX;
+
+namespace igms::bus {
+
+using SenderId = std::array<uint8_t, 16>;
+
+inline constexpr char kMagic[4] = {'I', 'G', 'B', '1'};
+inline constexpr size_t kSenderBytes = 16, kCounterBytes = 8, kTagBytes = 16;
+inline constexpr size_t kTrailerBytes = sizeof kMagic + kSenderBytes + kCounterBytes + kTagBytes;  // 44
+
+// The trailer of a message, when it has one (the magic at its place).
+struct Trailer {
+  SenderId sender{};
+  uint64_t counter = 0;
+  const uint8_t* tag = nullptr;
+  size_t payload_bytes = 0;
+};
+bool findTrailer(const uint8_t* data, size_t size, Trailer* out);
+
+// An AES-256-GCM context keyed for one sender (the key derived from the bus key).
+class SenderMac {
+ public:
+  SenderMac();
+  ~SenderMac();
+  SenderMac(const SenderMac&) = delete;
+  SenderMac& operator=(const SenderMac&) = delete;
+  void key(const BusKey& bus_key, const SenderId& sender);
+  // The tag of `data[0, size - kTagBytes)` (payload and trailer up to the tag) on `channel`.
+  bool compute(std::string_view channel, const uint8_t* data, size_t size, uint64_t counter, uint8_t tag[kTagBytes]);
+
+ private:
+  EVP_CIPHER_CTX* ctx_;
+};
+
+}  // namespace igms::bus

@@ -1,0 +1,163 @@
+#include "bus/message_verifier.h"
+
+#include <openssl/crypto.h>
+
+#include <cstdio>
+
+namespace igms::bus {
+namespace {
+
+uint64_t fnv1a(std::string_view s) {
+  uint64_t h = 1469598103934665603ull;
+  for (char c : s) h = (h ^ static_cast<uint8_t>(c)) * 1099511628211ull;
+  return h;
+}
+
+const char* advice(Refusal r) {
+  switch (r) {
+    case Refusal::kUnsigned:
+      return "is unsigned: its sender has no bus key (start it with the same --key-file)";
+    case Refusal::kBadSignature:
+      return "fails its signature check: signed with another key (a different --key-file?) or forged";
+    case Refusal::kReplayed:
+      return "was seen before (a replay) or is older than the last 64 from its sender";
+    case Refusal::kTooManySenders:
+      return "comes from one sender too many (more than 64 processes, or 1024 streams, with the key)";
+  }
+  return "";
+}
+
+}  // namespace
+
+struct MessageVerifier::Sender {
+  SenderId id{};
+  SenderMac mac;
+};
+
+const char* refusalName(Refusal r) {
+  static const char* names[kRefusals] = {"unsigned", "bad_signature", "replayed", "too_many_senders"};
+  return names[static_cast<int>(r)];
+}
+
+int64_t VerifierCounts::refusedTotal() const {
+  int64_t n = 0;
+  for (int64_t r : refused) n += r;
+  return n;
+}
+
+MessageVerifier::MessageVerifier(std::optional<BusKey> key, std::string program)
+    : key_(std::move(key)), program_(std::move(program)) {
+  if (!key_) return;
+  senders_.reserve(kMaxSenders);
+  for (int k = 0; k < kMaxSenders; ++k) senders_.push_back(std::make_unique<Sender>());
+  scratch_ = std::make_unique<Sender>();
+  streams_.resize(kMaxStreams);
+}
+
+MessageVerifier::~MessageVerifier() {
+  if (key_) OPENSSL_cleanse(key_->data(), key_->size());
+}
+
+Verdict MessageVerifier::refuse(Refusal why, std::string_view channel) {
+  refused_[static_cast<size_t>(why)].fetch_add(1, std::memory_order_relaxed);
+  // One line per kind, the first time: what a person needs to fix a wrong or missing key.
+  if (!quiet_ && !told_[static_cast<size_t>(why)].exchange(true))
+    std::fprintf(stderr, "%s: refused a message on %.*s: it %s (counted; later ones silently)\n", program_.c_str(),
+                 static_cast<int>(channel.size()), channel.data(), advice(why));
+  Verdict v;
+  v.why = why;
+  return v;
+}
+
+bool MessageVerifier::acceptCounter(int sender, std::string_view channel, uint64_t counter, Refusal* why) {
+  const uint64_t ch = fnv1a(channel);
+  Stream* s = nullptr;
+  for (int k = 0; k < nstreams_ && !s; ++k)
+    if (streams_[static_cast<size_t>(k)].sender == sender && streams_[static_cast<size_t>(k)].channel == ch)
+      s = &streams_[static_cast<size_t>(k)];
+  if (!s) {
+    if (nstreams_ == kMaxStreams) {
+      *why = Refusal::kTooManySenders;
+      return false;
+    }
+    s = &streams_[static_cast<size_t>(nstreams_++)];
+    *s = Stream{sender, ch, counter, 1};
+    return true;
+  }
+  if (counter > s->newest) {
+    const uint64_t shift = counter - s->newest;
+    s->seen = shift >= 64 ? 1 : (s->seen << shift) | 1;
+    s->newest = counter;
+    return true;
+  }
+  const uint64_t back = s->newest - counter;
+  if (back >= 64 || (s->seen >> back & 1)) {
+    *why = Refusal::kReplayed;
+    return false;
+  }
+  s->seen |= uint64_t{1} << back;
+  return true;
+}
+
+Verdict MessageVerifier::check(std::string_view channel, const uint8_t* data, size_t size) {
+  Trailer t;
+  const bool has_trailer = findTrailer(data, size, &t);
+  if (!key_) {
+    if (has_trailer) {
+      signed_unchecked_.fetch_add(1, std::memory_order_relaxed);
+      if (!quiet_ && !told_[kRefusals].exchange(true))
+        std::fprintf(stderr,
+                     "%s: messages on %.*s are signed but this program has no bus key: pass --key-file (or set %s); "
+                     "taking them unchecked\n",
+                     program_.c_str(), static_cast<int>(channel.size()), channel.data(), kKeyFileEnv);
+    }
+    accepted_.fetch_add(1, std::memory_order_relaxed);
+    return Verdict{true, Refusal::kUnsigned, has_trailer ? t.payload_bytes : size};
+  }
+  if (!has_trailer) return refuse(Refusal::kUnsigned, channel);
+  int sender = -1;
+  for (int k = 0; k < nsenders_ && sender < 0; ++k)
+    if (senders_[static_cast<size_t>(k)]->id == t.sender) sender = k;
+  Sender* s = sender >= 0 ? senders_[static_cast<size_t>(sender)].get() : scratch_.get();
+  if (sender < 0) {
+    s->id = t.sender;
+    s->mac.key(*key_, t.sender);
+  }
+  uint8_t tag[kTagBytes];
+  if (!s->mac.compute(channel, data, size, t.counter, tag) || CRYPTO_memcmp(tag, t.tag, kTagBytes) != 0)
+    return refuse(Refusal::kBadSignature, channel);
+  if (sender < 0) {
+    // A new process with the key: it gets a place (the scratch context becomes its own).
+    if (nsenders_ == kMaxSenders) return refuse(Refusal::kTooManySenders, channel);
+    sender = nsenders_++;
+    std::swap(senders_[static_cast<size_t>(sender)], scratch_);
+  }
+  Refusal why;
+  if (!acceptCounter(sender, channel, t.counter, &why)) return refuse(why, channel);
+  accepted_.fetch_add(1, std::memory_order_relaxed);
+  return Verdict{true, Refusal::kUnsigned, t.payload_bytes};
+}
+
+VerifierCounts MessageVerifier::counts() const {
+  VerifierCounts c;
+  c.accepted = accepted_.load(std::memory_order_relaxed);
+  c.signed_unchecked = signed_unchecked_.load(std::memory_order_relaxed);
+  for (int k = 0; k < kRefusals; ++k) c.refused[static_cast<size_t>(k)] = refused_[static_cast<size_t>(k)].load();
+  return c;
+}
+
+std::string MessageVerifier::summary() const {
+  const VerifierCounts c = counts();
+  std::string s = "accepted " + std::to_string(c.accepted) + ", refused " + std::to_string(c.refusedTotal());
+  std::string reasons;
+  for (int k = 0; k < kRefusals; ++k)
+    if (c.refused[static_cast<size_t>(k)] > 0)
+      reasons += std::string(reasons.empty() ? "" : ", ") + refusalName(static_cast<Refusal>(k)) + " " +
+                 std::to_string(c.refused[static_cast<size_t>(k)]);
+  if (!reasons.empty()) s += " (" + reasons + ")";
+  if (!key_) s += c.signed_unchecked ? "; no bus key, " + std::to_string(c.signed_unchecked) + " signed taken unchecked"
+                                     : "; no bus key";
+  return s;
+}
+
+}  // namespace igms::bus

@@ -1,0 +1,214 @@
+// The signed bus's parts without a network: signatures hold, any change to a
+// signed message breaks them, replays and other keys are refused, the window
+// takes reordering, a reader without the key still decodes, key files are
+// checked, and signing allocates nothing.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "bus/bus_key.h"
+#include "bus/message_signer.h"
+#include "bus/message_verifier.h"
+#include "igms/robot_state_t.hpp"
+#include "safe_decode.h"
+#include "tests/support/malloc_counter.h"
+
+namespace igms::bus {
+namespace {
+
+BusKey keyOf(uint8_t seed) {
+  BusKey k{};
+  for (size_t i = 0; i < k.size(); ++i) k[i] = static_cast<uint8_t>(seed + 7 * i);
+  return k;
+}
+
+std::vector<uint8_t> signedMessage(MessageSigner& signer, const std::string& channel, std::vector<uint8_t> payload) {
+  const size_t n = payload.size();
+  payload.resize(n + kTrailerBytes);
+  payload.resize(signer.sign(channel, payload.data(), n));
+  return payload;
+}
+
+Verdict check(MessageVerifier& v, const std::string& channel, const std::vector<uint8_t>& m) {
+  return v.check(channel, m.data(), m.size());
+}
+
+TEST(SignedBus, ASignedMessageIsAcceptedOnceAndItsPayloadComesBack) {
+  MessageSigner signer(keyOf(1));
+  MessageVerifier v(keyOf(1), "test");
+  const std::vector<uint8_t> payload = {1, 2, 3, 4, 5};
+  const auto m = signedMessage(signer, "IGMS_ROBOT_STATE", payload);
+  ASSERT_EQ(m.size(), payload.size() + 44);
+  const Verdict first = check(v, "IGMS_ROBOT_STATE", m);
+  EXPECT_TRUE(first.accepted);
+  EXPECT_EQ(first.payload_bytes, payload.size());
+  v.quiet();
+  const Verdict again = check(v, "IGMS_ROBOT_STATE", m);
+  EXPECT_FALSE(again.accepted);
+  EXPECT_EQ(again.why, Refusal::kReplayed);
+  EXPECT_EQ(v.counts().accepted, 1);
+  EXPECT_EQ(v.counts().refused[static_cast<size_t>(Refusal::kReplayed)], 1);
+}
+
+TEST(SignedBus, EveryByteAndTheChannelAreCovered) {
+  MessageSigner signer(keyOf(1));
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  const auto m = signedMessage(signer, "IGMS_COMMAND", std::vector<uint8_t>(100, 9));
+  // Any flipped bit, in the payload or the trailer (but the magic, which makes it unsigned), is refused.
+  for (size_t i = 0; i < m.size(); ++i) {
+    auto bad = m;
+    bad[i] ^= 0x10;
+    const Verdict verdict = check(v, "IGMS_COMMAND", bad);
+    EXPECT_FALSE(verdict.accepted) << "byte " << i;
+    const bool magic = i >= 100 && i < 104;
+    EXPECT_EQ(verdict.why, magic ? Refusal::kUnsigned : Refusal::kBadSignature) << "byte " << i;
+  }
+  // The same bytes on another channel.
+  EXPECT_EQ(check(v, "IGMS_HAPTIC_INPUT", m).why, Refusal::kBadSignature);
+  // Cut short, or with a byte added before the trailer.
+  auto shorter = m;
+  shorter.erase(shorter.begin());
+  EXPECT_EQ(check(v, "IGMS_COMMAND", shorter).why, Refusal::kBadSignature);
+  EXPECT_TRUE(check(v, "IGMS_COMMAND", m).accepted);
+  EXPECT_EQ(v.counts().accepted, 1);
+}
+
+TEST(SignedBus, AnotherKeyAndNoSignatureAreRefused) {
+  MessageSigner stranger(keyOf(2));
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  EXPECT_EQ(check(v, "IGMS_ROBOT_STATE", signedMessage(stranger, "IGMS_ROBOT_STATE", {1, 2, 3})).why,
+            Refusal::kBadSignature);
+  EXPECT_EQ(check(v, "IGMS_ROBOT_STATE", std::vector<uint8_t>(200, 1)).why, Refusal::kUnsigned);
+  EXPECT_EQ(check(v, "IGMS_ROBOT_STATE", std::vector<uint8_t>{}).why, Refusal::kUnsigned);
+  EXPECT_EQ(v.counts().refusedTotal(), 3);
+}
+
+TEST(SignedBus, TheWindowTakesReorderingButNotReplaysOrTheTooOld) {
+  MessageSigner signer(keyOf(1));
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  std::vector<std::vector<uint8_t>> m;
+  for (int k = 0; k < 100; ++k) m.push_back(signedMessage(signer, "C", {static_cast<uint8_t>(k)}));
+  // 10 first, then 5..9 late (reordered, within 64): all accepted once.
+  EXPECT_TRUE(check(v, "C", m[10]).accepted);
+  for (int k = 5; k < 10; ++k) EXPECT_TRUE(check(v, "C", m[static_cast<size_t>(k)]).accepted) << k;
+  for (int k = 5; k <= 10; ++k) EXPECT_EQ(check(v, "C", m[static_cast<size_t>(k)]).why, Refusal::kReplayed) << k;
+  // 99, then 20 (79 behind: older than the window) and 40 (59 behind: new, taken).
+  EXPECT_TRUE(check(v, "C", m[99]).accepted);
+  EXPECT_EQ(check(v, "C", m[20]).why, Refusal::kReplayed);
+  EXPECT_TRUE(check(v, "C", m[40]).accepted);
+  // Each channel has its own stream: a process's counter is shared by its channels.
+  const auto other = signedMessage(signer, "D", {1});
+  EXPECT_TRUE(check(v, "D", other).accepted);
+  EXPECT_TRUE(check(v, "C", signedMessage(signer, "C", {1})).accepted);
+}
+
+TEST(SignedBus, AReaderWithoutTheKeyDecodesAsBefore) {
+  robot_state_t s{};
+  s.seq = 42;
+  s.nq = 2;
+  s.q = {0.5, -0.25};
+  std::vector<uint8_t> bytes(static_cast<size_t>(s.getEncodedSize()));
+  s.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  MessageSigner signer(keyOf(1));
+  const auto m = signedMessage(signer, "IGMS_ROBOT_STATE", bytes);
+  robot_state_t out;
+  ASSERT_TRUE(safeDecode(m.data(), m.size(), &out));  // LCM stops at the message's end
+  EXPECT_EQ(out.seq, 42);
+  EXPECT_EQ(out.q[1], -0.25);
+  MessageVerifier unkeyed(std::nullopt, "test");
+  unkeyed.quiet();
+  const Verdict verdict = check(unkeyed, "IGMS_ROBOT_STATE", m);
+  EXPECT_TRUE(verdict.accepted);
+  EXPECT_EQ(verdict.payload_bytes, bytes.size());
+  EXPECT_EQ(unkeyed.counts().signed_unchecked, 1);
+  EXPECT_TRUE(check(unkeyed, "IGMS_ROBOT_STATE", bytes).accepted);
+  EXPECT_EQ(unkeyed.counts().signed_unchecked, 1);
+}
+
+TEST(SignedBus, ForgedSenderIdsNeverTakeAPlace) {
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  for (int k = 0; k < 500; ++k) {
+    std::vector<uint8_t> junk(60, static_cast<uint8_t>(k));
+    std::memcpy(junk.data() + 16, kMagic, 4);  // a trailer's shape with a random sender and tag
+    EXPECT_EQ(check(v, "C", junk).why, Refusal::kBadSignature);
+  }
+  MessageSigner signer(keyOf(1));
+  EXPECT_TRUE(check(v, "C", signedMessage(signer, "C", {1})).accepted);
+}
+
+TEST(SignedBus, SigningAndCheckingAllocateNothing) {
+  MessageSigner signer(keyOf(1));
+  MessageVerifier v(keyOf(1), "test");
+  std::vector<uint8_t> buffer(5200 + kTrailerBytes, 3);
+  size_t n = signer.sign("IGMS_ROBOT_STATE", buffer.data(), 5200);
+  ASSERT_TRUE(v.check("IGMS_ROBOT_STATE", buffer.data(), n).accepted);  // the sender's place is taken here
+  bool all = true;
+  const size_t allocations = test::allocationsDuring([&] {
+    for (int k = 0; k < 100; ++k) {
+      n = signer.sign("IGMS_ROBOT_STATE", buffer.data(), 5200);
+      all = all && v.check("IGMS_ROBOT_STATE", buffer.data(), n).accepted;
+    }
+  });
+  EXPECT_TRUE(all);
+  EXPECT_EQ(allocations, 0u);
+}
+
+class KeyFile : public ::testing::Test {
+ protected:
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / ("igms_key_" + std::to_string(getpid()));
+  void SetUp() override { std::filesystem::create_directories(dir); }
+  void TearDown() override { std::filesystem::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text, mode_t mode) {
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << text;
+    chmod(path.c_str(), mode);
+    return path;
+  }
+  static std::string errorOf(const std::string& path) {
+    try {
+      loadBusKey(path);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST_F(KeyFile, ACreatedKeyLoadsAndIsPrivate) {
+  const std::string path = (dir / "bus.key").string();
+  createBusKeyFile(path);
+  struct stat st {};
+  ASSERT_EQ(stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  const BusKey k = loadBusKey(path);
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  EXPECT_EQ(hexOf(k), text);
+  EXPECT_THROW(createBusKeyFile(path), std::runtime_error);  // never overwritten
+  createBusKeyFile((dir / "other.key").string());
+  EXPECT_NE(hexOf(loadBusKey((dir / "other.key").string())), text);
+}
+
+TEST_F(KeyFile, BadFilesNameTheFileAndTheProblem) {
+  const std::string hex(64, 'a');
+  EXPECT_NE(errorOf((dir / "none.key").string()).find("none.key: No such file"), std::string::npos);
+  EXPECT_NE(errorOf(write("open.key", hex, 0644)).find("open.key: readable by others (mode 644); chmod 600 it"),
+            std::string::npos);
+  EXPECT_NE(errorOf(write("short.key", "abcd", 0600)).find("short.key: holds 4 characters, not the key's 64"),
+            std::string::npos);
+  EXPECT_NE(errorOf(write("nothex.key", "g" + hex.substr(1), 0600)).find("nothex.key: not hex at character 1"),
+            std::string::npos);
+  EXPECT_EQ(errorOf(write("good.key", hex + "\n", 0600)), "");
+}
+
+}  // namespace
+}  // namespace igms::bus
