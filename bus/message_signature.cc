@@ -1,7 +1,8 @@
 #include "bus/message_signature.h"
 
+#include <openssl/core_names.h>
+#include <openssl/crypto.h>
 #include <openssl/evp.h>
-#include <openssl/hmac.h>
 
 #include <cstring>
 #include <stdexcept>
@@ -30,17 +31,34 @@ SenderMac::SenderMac() : ctx_(EVP_CIPHER_CTX_new()) {
 
 SenderMac::~SenderMac() { EVP_CIPHER_CTX_free(ctx_); }
 
-void SenderMac::key(const BusKey& bus_key, const SenderId& sender) {
+SenderKeys::SenderKeys(const BusKey& bus_key) {
+  EVP_MAC* mac = EVP_MAC_fetch(nullptr, "HMAC", nullptr);
+  ctx_ = mac ? EVP_MAC_CTX_new(mac) : nullptr;
+  EVP_MAC_free(mac);  // the context holds its own reference
+  char digest[] = "SHA256";
+  const OSSL_PARAM params[] = {OSSL_PARAM_construct_utf8_string(OSSL_MAC_PARAM_DIGEST, digest, 0),
+                               OSSL_PARAM_construct_end()};
+  if (!ctx_ || EVP_MAC_init(ctx_, bus_key.data(), bus_key.size(), params) != 1)
+    throw std::runtime_error("OpenSSL: no HMAC-SHA256");
+}
+
+SenderKeys::~SenderKeys() { EVP_MAC_CTX_free(ctx_); }
+
+bool SenderKeys::derive(const SenderId& sender, uint8_t key[32]) {
   static constexpr char kLabel[] = "igms bus v1";
-  uint8_t input[sizeof kLabel - 1 + kSenderBytes];
-  std::memcpy(input, kLabel, sizeof kLabel - 1);
-  std::memcpy(input + sizeof kLabel - 1, sender.data(), kSenderBytes);
+  size_t length = 0;
+  // A null key restarts the MAC under the key it was initialised with.
+  return EVP_MAC_init(ctx_, nullptr, 0, nullptr) == 1 &&
+         EVP_MAC_update(ctx_, reinterpret_cast<const uint8_t*>(kLabel), sizeof kLabel - 1) == 1 &&
+         EVP_MAC_update(ctx_, sender.data(), sender.size()) == 1 && EVP_MAC_final(ctx_, key, &length, 32) == 1 &&
+         length == 32;
+}
+
+bool SenderMac::key(SenderKeys& keys, const SenderId& sender) {
   uint8_t subkey[32];
-  unsigned length = 0;
-  if (!HMAC(EVP_sha256(), bus_key.data(), static_cast<int>(bus_key.size()), input, sizeof input, subkey, &length) ||
-      EVP_EncryptInit_ex(ctx_, nullptr, nullptr, subkey, nullptr) != 1)
-    throw std::runtime_error("OpenSSL: cannot key AES-256-GCM");
+  const bool ok = keys.derive(sender, subkey) && EVP_EncryptInit_ex(ctx_, nullptr, nullptr, subkey, nullptr) == 1;
   OPENSSL_cleanse(subkey, sizeof subkey);
+  return ok;
 }
 
 bool SenderMac::compute(std::string_view channel, const uint8_t* data, size_t size, uint64_t counter,

@@ -22,7 +22,10 @@ const SenderId& processSender() {
   return id;
 }
 
-MessageSigner::MessageSigner(const BusKey& key) { mac_.key(key, processSender()); }
+MessageSigner::MessageSigner(const BusKey& key) {
+  SenderKeys keys(key);
+  if (!mac_.key(keys, processSender())) throw std::runtime_error("OpenSSL: cannot key AES-256-GCM");
+}
 
 size_t MessageSigner::sign(std::string_view channel, uint8_t* buffer, size_t size) {
   const uint64_t counter = g_counter.fetch_add(1, std::memory_order_relaxed) + 1;

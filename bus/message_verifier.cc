@@ -48,6 +48,7 @@ int64_t VerifierCounts::refusedTotal() const {
 MessageVerifier::MessageVerifier(std::optional<BusKey> key, std::string program)
     : key_(std::move(key)), program_(std::move(program)) {
   if (!key_) return;
+  keys_ = std::make_unique<SenderKeys>(*key_);
   senders_.reserve(kMaxSenders);
   for (int k = 0; k < kMaxSenders; ++k) senders_.push_back(std::make_unique<Sender>());
   scratch_ = std::make_unique<Sender>();
@@ -121,7 +122,7 @@ Verdict MessageVerifier::check(std::string_view channel, const uint8_t* data, si
   Sender* s = sender >= 0 ? senders_[static_cast<size_t>(sender)].get() : scratch_.get();
   if (sender < 0) {
     s->id = t.sender;
-    s->mac.key(*key_, t.sender);
+    if (!s->mac.key(*keys_, t.sender)) return refuse(Refusal::kBadSignature, channel);
   }
   uint8_t tag[kTagBytes];
   if (!s->mac.compute(channel, data, size, t.counter, tag) || CRYPTO_memcmp(tag, t.tag, kTagBytes) != 0)

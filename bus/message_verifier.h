@@ -71,6 +71,7 @@ class MessageVerifier {
   bool acceptCounter(int sender, std::string_view channel, uint64_t counter, Refusal* why);
 
   std::optional<BusKey> key_;
+  std::unique_ptr<SenderKeys> keys_;
   std::string program_;
   bool quiet_ = false;
   std::vector<std::unique_ptr<Sender>> senders_;

@@ -8,12 +8,21 @@
 // counts what it rejected, and the server and the client go on at 1 kHz.
 // The flood (label stress): 50 000 inputs/s for 5 s at the server, which
 // keeps its rate; its memory before and after is printed.
+// With IGMS_FUZZ_KEYED=1 the programs run on a signed bus (a new key in
+// IGMS_KEY_FILE): every case goes out signed with the key (an insider's
+// garbage still reaches the decoders, which must hold) and once more
+// unsigned (refused before any decode, and counted); the flood's inputs carry
+// a trailer with a random sender and tag, the verifier's dearest path.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -21,7 +30,10 @@
 #include <random>
 #include <thread>
 
+#include "bus/bus_key.h"
+#include "bus/message_signer.h"
 #include "channels.h"
+#include "igms/bus_status_t.hpp"
 #include "igms/client_status_t.hpp"
 #include "igms/command_t.hpp"
 #include "igms/contacts_t.hpp"
@@ -45,6 +57,30 @@ std::string sourceDir() { return std::getenv("IGMS_SOURCE_DIR"); }
 std::string bin(const char* env) { return std::getenv(env); }
 
 using Bytes = std::vector<uint8_t>;
+
+// The signed bus, when IGMS_FUZZ_KEYED is set: a new key file for this run, in the children's environment.
+struct Keying {
+  Keying() {
+    if (!std::getenv("IGMS_FUZZ_KEYED")) return;
+    const std::string path = ::testing::TempDir() + "/fuzz_bus_" + std::to_string(getpid()) + ".key";
+    std::remove(path.c_str());
+    bus::createBusKeyFile(path);
+    setenv(bus::kKeyFileEnv, path.c_str(), 1);
+    signer = std::make_unique<bus::MessageSigner>(bus::loadBusKey(path));
+  }
+  bool keyed() const { return signer != nullptr; }
+  Bytes sign(const std::string& channel, Bytes b) const {
+    const size_t n = b.size();
+    b.resize(n + bus::kTrailerBytes);
+    b.resize(signer->sign(channel, b.data(), n));
+    return b;
+  }
+  std::unique_ptr<bus::MessageSigner> signer;
+};
+const Keying& keying() {
+  static const Keying k;
+  return k;
+}
 
 template <typename Message>
 Bytes encode(const Message& m) {
@@ -179,6 +215,7 @@ class Watcher {
   Watcher() : bus_(url()) {
     bus_.subscribeFunction<Watcher*>(channels::kServerStatus, &Watcher::onServer, this);
     bus_.subscribeFunction<Watcher*>(channels::kClientStatus, &Watcher::onClient, this);
+    bus_.subscribeFunction<Watcher*>(channels::kBusStatus, &Watcher::onBus, this);
     thread_ = std::thread([this] {
       while (!stop_) bus_.handleTimeout(10);
     });
@@ -203,6 +240,13 @@ class Watcher {
     w->client = s;
     ++w->client_count;
   }
+  // Each program's message checks (the newest bus status of each).
+  static void onBus(const lcm::ReceiveBuffer* b, const std::string&, Watcher* w) {
+    bus_status_t s;
+    if (!safeDecode(b->data, b->data_size, &s)) return;
+    std::lock_guard<std::mutex> l(w->mutex);
+    w->bus[s.program] = s;
+  }
   // Waits for `n` more statuses of each.
   bool fresh(int n, double seconds) {
     int64_t s0, c0;
@@ -221,6 +265,7 @@ class Watcher {
   std::mutex mutex;
   server_status_t server{};
   client_status_t client{};
+  std::map<std::string, bus_status_t> bus;
   int64_t server_count = 0, client_count = 0;
 
  private:
@@ -251,6 +296,7 @@ struct Session {
 };
 
 TEST(BusFuzz, NoMessageStopsAProgram) {
+  const Keying& key = keying();
   Session s;
   Watcher watch;
   ASSERT_TRUE(watch.fresh(3, 15.0)) << "the server and the client are up";
@@ -286,7 +332,12 @@ TEST(BusFuzz, NoMessageStopsAProgram) {
     for (const Bytes& b : cases) {
       ++sent[t.channel];
       if (!t.decodes(b)) ++undecodable[t.channel];
-      bus.publish(t.channel, b.data(), static_cast<unsigned>(b.size()));
+      if (key.keyed()) {
+        const Bytes signed_case = key.sign(t.channel, b);
+        bus.publish(t.channel, signed_case.data(), static_cast<unsigned>(signed_case.size()));
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+      }
+      bus.publish(t.channel, b.data(), static_cast<unsigned>(b.size()));  // keyed: refused as unsigned
       std::this_thread::sleep_for(std::chrono::microseconds(100));  // 10 000/s: the sockets keep up
     }
     std::printf("%-20s %5zu cases (%lld undecodable; valid encoding %zu bytes) -> %s\n", t.channel, cases.size(),
@@ -305,10 +356,26 @@ TEST(BusFuzz, NoMessageStopsAProgram) {
     // Counted: at least 95 % of what the ground truth says (UDP on loopback may drop a few).
     auto most = [](int64_t n) { return static_cast<int64_t>(0.95 * static_cast<double>(n)); };
     EXPECT_GE(watch.server.rate_hz, 900.0) << "the server keeps its rate (a few percent lost to 2 shared cores is not a stall)";
+    if (key.keyed()) {  // the unsigned copies: refused before any decode, and counted
+      const int64_t to_server = sent[channels::kHapticInput] + sent[channels::kCommand];
+      const int64_t to_client = sent[channels::kRobotState] + sent[channels::kServerStatus];
+      EXPECT_GE(watch.bus["igms-server"].refused[bus_status_t::REFUSED_UNSIGNED], most(to_server));
+      EXPECT_GE(watch.bus["igms-haptic"].refused[bus_status_t::REFUSED_UNSIGNED], most(to_client));
+      EXPECT_TRUE(watch.bus["igms-server"].keyed && watch.bus["igms-haptic"].keyed && watch.bus["igms-viewer"].keyed);
+      std::printf("refused unsigned: server %lld (of %lld sent), client %lld (of %lld), viewer %lld\n",
+                  static_cast<long long>(watch.bus["igms-server"].refused[bus_status_t::REFUSED_UNSIGNED]),
+                  static_cast<long long>(to_server),
+                  static_cast<long long>(watch.bus["igms-haptic"].refused[bus_status_t::REFUSED_UNSIGNED]),
+                  static_cast<long long>(to_client),
+                  static_cast<long long>(watch.bus["igms-viewer"].refused[bus_status_t::REFUSED_UNSIGNED]));
+    }
     EXPECT_GE(watch.server.rejected_by_reason[server_status_t::REJECT_UNDECODABLE],
               most(undecodable[channels::kHapticInput]));
     EXPECT_GE(watch.server.inputs_rejected, most(sent[channels::kHapticInput])) << "every fuzzed input refused";
-    EXPECT_GE(watch.server.commands_rejected, most(sent[channels::kCommand])) << "every fuzzed command refused";
+    if (key.keyed())  // signed, a well-formed command is the key holder's to give: only the malformed are refused
+      EXPECT_GE(watch.server.commands_rejected, most(undecodable[channels::kCommand])) << "every malformed command refused";
+    else
+      EXPECT_GE(watch.server.commands_rejected, most(sent[channels::kCommand])) << "every fuzzed command refused";
     EXPECT_EQ(watch.server.state, "running") << "no fuzzed command got through";
     EXPECT_GE(watch.client.rate_hz, 950.0) << "the client keeps its rate";
     EXPECT_GE(watch.client.undecodable,
@@ -338,6 +405,7 @@ TEST(BusFuzz, NoMessageStopsAProgram) {
 
 TEST(BusFuzz, FloodOfInputs) {
   if (!std::getenv("IGMS_FUZZ_FLOOD")) GTEST_SKIP() << "the flood runs under the stress label (IGMS_FUZZ_FLOOD=1)";
+  const Keying& key = keying();
   Session s;
   Watcher watch;
   ASSERT_TRUE(watch.fresh(3, 15.0));
@@ -349,10 +417,23 @@ TEST(BusFuzz, FloodOfInputs) {
     lcm::LCM bus(url());
     haptic_input_t m = validInput();
     m.session_token = kToken + 1;  // not this session's: rejected, counted
+    std::mt19937_64 rng(static_cast<uint64_t>(first_seq));
+    Bytes forged = encode(m);  // keyed: with a trailer of a random sender and tag, the verifier's dearest path
+    const size_t n = forged.size();
+    forged.resize(n + bus::kTrailerBytes);
+    std::memcpy(forged.data() + n, bus::kMagic, sizeof bus::kMagic);
     for (int64_t k = 0; std::chrono::steady_clock::now() - start < std::chrono::seconds(5); ++k) {
       if (k % 25 == 0) std::this_thread::sleep_until(start + std::chrono::microseconds(40 * k));
-      m.seq = first_seq + k;
-      bus.publish(channels::kHapticInput, &m);
+      if (key.keyed()) {
+        for (size_t i = n + sizeof bus::kMagic; i < forged.size(); i += 8) {
+          const uint64_t r = rng();
+          std::memcpy(forged.data() + i, &r, std::min<size_t>(8, forged.size() - i));
+        }
+        bus.publish(channels::kHapticInput, forged.data(), static_cast<unsigned>(forged.size()));
+      } else {
+        m.seq = first_seq + k;
+        bus.publish(channels::kHapticInput, &m);
+      }
       ++sent;
     }
   };
@@ -369,16 +450,20 @@ TEST(BusFuzz, FloodOfInputs) {
   ASSERT_TRUE(watch.fresh(3, 10.0));
   const long rss_after = rssKb(s.server.pid());
   std::lock_guard<std::mutex> l(watch.mutex);
-  std::printf("flood: %lld inputs in %.2f s (%.0f/s); server rate at worst %.0f Hz; rejected (token) %lld; RSS %ld kB "
-              "before, %ld kB after\n",
+  std::printf("flood: %lld inputs in %.2f s (%.0f/s); server rate at worst %.0f Hz; rejected (token) %lld, refused "
+              "(bad signature) %lld; RSS %ld kB before, %ld kB after\n",
               static_cast<long long>(sent.load()), seconds, static_cast<double>(sent) / seconds, worst_rate,
-              static_cast<long long>(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN]), rss_before,
+              static_cast<long long>(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN]),
+              static_cast<long long>(watch.bus["igms-server"].refused[bus_status_t::REFUSED_BAD_SIGNATURE]), rss_before,
               rss_after);
   EXPECT_GE(static_cast<double>(sent) / seconds, 40000.0) << "the flood was a flood";
   // Two publishers, the server, the viewer and the logger share 2 cores here: the server may lose a few
   // percent of its cycles to the scheduler (965 Hz seen in CI) but must not stall or fall behind for good.
   EXPECT_GE(worst_rate, 900.0) << "the server keeps its rate through the flood";
-  EXPECT_GT(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN], sent / 2);
+  if (key.keyed())
+    EXPECT_GT(watch.bus["igms-server"].refused[bus_status_t::REFUSED_BAD_SIGNATURE], sent / 2);
+  else
+    EXPECT_GT(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN], sent / 2);
   EXPECT_LT(rss_after, rss_before + 20 * 1024) << "memory stays bounded";
   EXPECT_TRUE(s.server.running());
 }
