@@ -131,7 +131,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
   if (!o.quiet) printSummary(stats, wall);
-  if (!o.quiet || bus.verifier().counts().refusedTotal() > 0)
+  if (!o.quiet || bus.verifier().keyed() || bus.verifier().counts().refusedTotal() > 0)
     std::fprintf(stderr, "igms-haptic: bus: %s\n", bus.verifier().summary().c_str());
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",

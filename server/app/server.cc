@@ -253,7 +253,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
     control.reload = false;
     const int code = runScene(scene_path, bus, out, receiver, control, o, token, stop);
     if (code != 0 || !control.reload || stop) {
-      if (!o.quiet || verifier.counts().refusedTotal() > 0)
+      if (!o.quiet || verifier.keyed() || verifier.counts().refusedTotal() > 0)  // keyed: always the one line
         std::fprintf(stderr, "igms-server: bus: %s\n", verifier.summary().c_str());
       return code;
     }
