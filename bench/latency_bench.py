@@ -93,8 +93,10 @@ def summarise(exp, delay, jitter, loss, out, client_log):
                   r"\((\d+) cycles cut", client_log)
     a = re.search(r"state age p50 ([\d.]+) ms, p99 ([\d.]+) ms, max ([\d.]+) ms; lowest energy balance ([-\d.]+) J, "
                   r"passivity controller acted in (\d+) cycles", client_log)
+    b = re.search(r"igms-haptic: bus: accepted (\d+), refused (\d+)", client_log)  # a signed bus (IGMS_KEY_FILE)
     return {
         "experiment": exp, "delay_ms": delay, "jitter_ms": jitter, "loss": loss,
+        "bus_accepted": int(b.group(1)) if b else None, "bus_refused": int(b.group(2)) if b else None,
         "cycles": int(m.group(1)) if m else None, "rate_hz": float(m.group(3)) if m else None,
         "max_force_step_N": float(m.group(5)) if m else None, "cut_to_bound": int(m.group(6)) if m else None,
         "state_age_p50_ms": float(a.group(1)) if a else None, "state_age_p99_ms": float(a.group(2)) if a else None,

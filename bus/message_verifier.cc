@@ -20,7 +20,7 @@ const char* advice(Refusal r) {
     case Refusal::kBadSignature:
       return "fails its signature check: signed with another key (a different --key-file?) or forged";
     case Refusal::kReplayed:
-      return "was seen before (a replay) or is older than the last 64 from its sender";
+      return "was seen before (a replay) or is older than the last 1024 from its sender";
     case Refusal::kTooManySenders:
       return "comes from one sender too many (more than 64 processes, or 1024 streams, with the key)";
   }
@@ -82,21 +82,26 @@ bool MessageVerifier::acceptCounter(int sender, std::string_view channel, uint64
       return false;
     }
     s = &streams_[static_cast<size_t>(nstreams_++)];
-    *s = Stream{sender, ch, counter, 1};
+    *s = Stream{sender, ch, counter, {}};
+    setBit(*s, counter);
     return true;
   }
   if (counter > s->newest) {
-    const uint64_t shift = counter - s->newest;
-    s->seen = shift >= 64 ? 1 : (s->seen << shift) | 1;
+    // The counters passed over leave the window's far end: their bits are cleared for reuse.
+    if (counter - s->newest >= kWindow) {
+      s->seen.fill(0);
+    } else {
+      for (uint64_t c = s->newest + 1; c < counter; ++c) s->seen[c % kWindow / 64] &= ~(uint64_t{1} << (c % 64));
+    }
     s->newest = counter;
+    setBit(*s, counter);
     return true;
   }
-  const uint64_t back = s->newest - counter;
-  if (back >= 64 || (s->seen >> back & 1)) {
+  if (s->newest - counter >= kWindow || seenBit(*s, counter)) {
     *why = Refusal::kReplayed;
     return false;
   }
-  s->seen |= uint64_t{1} << back;
+  setBit(*s, counter);
   return true;
 }
 

@@ -1,8 +1,9 @@
 // Checks messages before anything decodes them. With a bus key, a message is
 // accepted only when its tag holds under its sender's key and its counter is
-// new for that sender on that channel: newer than any seen, or one of the 64
-// before the newest not seen yet (an IPsec-style window, so the reordering of
-// a lossy link is no replay). Refusals are counted by reason. Without a key
+// new for that sender on that channel: newer than any seen, or one of the
+// kWindow before the newest not seen yet (an IPsec-style window, so the
+// reordering of a jittery link is no replay: 20 ms of jitter reorders a 1 kHz
+// stream's catch-up bursts by more than 64). Refusals are counted by reason. Without a key
 // everything is accepted (the unauthenticated bus), and signed messages are
 // counted so the program can say it lacks the key. One verifier per receiving
 // thread; the counts may be read from any thread. Checking allocates nothing:
@@ -44,6 +45,7 @@ class MessageVerifier {
  public:
   static constexpr int kMaxSenders = 64;    // processes heard with a valid signature
   static constexpr int kMaxStreams = 1024;  // (sender, channel) pairs
+  static constexpr uint64_t kWindow = 1024;  // counters behind the newest still taken once
 
   // `program` prefixes the one line printed the first time each kind of refusal happens.
   MessageVerifier(std::optional<BusKey> key, std::string program);
@@ -65,8 +67,10 @@ class MessageVerifier {
     int sender = -1;
     uint64_t channel = 0;  // FNV-1a of the name
     uint64_t newest = 0;
-    uint64_t seen = 0;  // bit k: newest - k was accepted
+    std::array<uint64_t, kWindow / 64> seen{};  // bit (c % kWindow): counter c was accepted (within the window)
   };
+  static bool seenBit(const Stream& s, uint64_t c) { return s.seen[c % kWindow / 64] >> (c % 64) & 1; }
+  static void setBit(Stream& s, uint64_t c) { s.seen[c % kWindow / 64] |= uint64_t{1} << (c % 64); }
   Verdict refuse(Refusal why, std::string_view channel);
   bool acceptCounter(int sender, std::string_view channel, uint64_t counter, Refusal* why);
 

@@ -5,7 +5,9 @@ igms-haptic on the paper's push and pull scripts (bench/latency_bench.py
 --quick). Each case must hold the servo rate, never step the rendered force by
 more than 1 N a cycle, never declare the server lost, keep the passivity
 observer's energy balance where physics alone puts it, and end collision-free
-at the wall; the push 20 ms away (+-10 ms) too.
+at the wall; the push 20 ms away (+-10 ms) too. The bus is signed (a new key in
+IGMS_KEY_FILE for every process): the relay's reordering and loss must not make
+a receiver refuse a genuine message.
   latency_test.py BUILD_DIR   (inside scripts/netns_run.sh)"""
 import json
 import os
@@ -20,6 +22,10 @@ def main():
     build = os.path.abspath(sys.argv[1])
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
+        key = os.path.join(tmp, "bus.key")
+        with os.fdopen(os.open(key, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600), "w") as f:
+            f.write(os.urandom(32).hex() + "\n")
+        os.environ["IGMS_KEY_FILE"] = key  # every process the bench starts signs and checks
         out = os.path.join(tmp, "results.json")
         subprocess.run([sys.executable, os.path.join(ROOT, "bench/latency_bench.py"), "--quick", "--build", build,
                         "--out", tmp, "--port", "7850", "--json", out], check=True)
@@ -32,6 +38,8 @@ def main():
                     failures.append(f"{case}: {what}")
 
             check(r["cycles"] == 7000, f"the client ran its 7000 cycles ({r['cycles']})")
+            check(r["bus_refused"] == 0 and r["bus_accepted"] > 5000,
+                  f"signed, through reordering and loss: {r['bus_accepted']} accepted, {r['bus_refused']} refused")
             check(r["rate_hz"] is not None and r["rate_hz"] >= 950, f"servo rate {r['rate_hz']} Hz >= 950 Hz")
             check(r["max_force_step_N"] is not None and r["max_force_step_N"] <= 1.0 + 1e-9,
                   f"largest force step {r['max_force_step_N']} N <= 1 N")

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <vector>
 
 #include "bus/bus_key.h"
@@ -93,16 +94,34 @@ TEST(SignedBus, TheWindowTakesReorderingButNotReplaysOrTheTooOld) {
   MessageSigner signer(keyOf(1));
   MessageVerifier v(keyOf(1), "test");
   v.quiet();
+  constexpr size_t kW = MessageVerifier::kWindow;
   std::vector<std::vector<uint8_t>> m;
-  for (int k = 0; k < 100; ++k) m.push_back(signedMessage(signer, "C", {static_cast<uint8_t>(k)}));
-  // 10 first, then 5..9 late (reordered, within 64): all accepted once.
+  for (size_t k = 0; k < 3 * kW; ++k) m.push_back(signedMessage(signer, "C", {static_cast<uint8_t>(k)}));
+  // 10 first, then 5..9 late (reordered): all accepted once.
   EXPECT_TRUE(check(v, "C", m[10]).accepted);
   for (int k = 5; k < 10; ++k) EXPECT_TRUE(check(v, "C", m[static_cast<size_t>(k)]).accepted) << k;
   for (int k = 5; k <= 10; ++k) EXPECT_EQ(check(v, "C", m[static_cast<size_t>(k)]).why, Refusal::kReplayed) << k;
-  // 99, then 20 (79 behind: older than the window) and 40 (59 behind: new, taken).
-  EXPECT_TRUE(check(v, "C", m[99]).accepted);
+  // kW + 99, then 20 (older than the window), 100 (kW - 1 behind: new, taken once) and 10 again.
+  EXPECT_TRUE(check(v, "C", m[kW + 99]).accepted);
   EXPECT_EQ(check(v, "C", m[20]).why, Refusal::kReplayed);
-  EXPECT_TRUE(check(v, "C", m[40]).accepted);
+  EXPECT_TRUE(check(v, "C", m[100]).accepted);
+  EXPECT_EQ(check(v, "C", m[100]).why, Refusal::kReplayed);
+  EXPECT_EQ(check(v, "C", m[10]).why, Refusal::kReplayed);
+  // A jump of more than the window: everything before it is too old, what follows it new.
+  EXPECT_TRUE(check(v, "C", m[3 * kW - 1]).accepted);
+  EXPECT_EQ(check(v, "C", m[kW + 99]).why, Refusal::kReplayed);
+  EXPECT_TRUE(check(v, "C", m[2 * kW]).accepted);  // kW - 1 behind, never seen
+  // Every counter once, in a shuffled order within the window: each accepted exactly once.
+  MessageVerifier fresh(keyOf(1), "test");
+  fresh.quiet();
+  std::vector<size_t> order;
+  for (size_t k = 0; k < kW; ++k) order.push_back(k);
+  std::mt19937 rng(7);
+  std::shuffle(order.begin() + 1, order.end(), rng);  // the first arrives first; the rest within kW of it
+  size_t accepted = 0;
+  for (size_t k : order) accepted += check(fresh, "C", m[k]).accepted;
+  for (size_t k : order) accepted += check(fresh, "C", m[k]).accepted;
+  EXPECT_EQ(accepted, kW);
   // Each channel has its own stream: a process's counter is shared by its channels.
   const auto other = signedMessage(signer, "D", {1});
   EXPECT_TRUE(check(v, "D", other).accepted);
