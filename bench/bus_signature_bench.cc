@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
     forged_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / kPerRound);
     if (refused != kPerRound) return 1;
   }
-  std::printf("%-34s %7zu  %9s %9.3f\n", "haptic input, forged sender", messages[0].bytes.size() + 44, "",
+  std::printf("%-34s %7zu  %9s %9.3f\n", "haptic input, forged sender", messages[0].bytes.size() + igms::bus::kTrailerBytes, "",
               median(forged_us));
   return 0;
 }

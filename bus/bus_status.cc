@@ -4,6 +4,8 @@
 
 namespace igms::bus {
 
+static_assert(sizeof(bus_status_t::refused) / sizeof(int64_t) == kRefusals, "bus_status_t.refused: one per reason");
+
 VerifierCounts sumCounts(const std::vector<const MessageVerifier*>& verifiers) {
   VerifierCounts sum;
   for (const MessageVerifier* v : verifiers) {

@@ -4,6 +4,7 @@
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
 
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 
@@ -19,9 +20,18 @@ bool findTrailer(const uint8_t* data, size_t size, Trailer* out) {
   uint64_t c = 0;
   for (size_t i = 0; i < kCounterBytes; ++i) c = c << 8 | t[i];
   out->counter = c;
-  out->tag = t + kCounterBytes;
+  t += kCounterBytes;
+  uint64_t time = 0;
+  for (size_t i = 0; i < kTimeBytes; ++i) time = time << 8 | t[i];
+  out->time_us = static_cast<int64_t>(time);
+  out->tag = t + kTimeBytes;
   out->payload_bytes = size - kTrailerBytes;
   return true;
+}
+
+int64_t wallClockMicros() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
 }
 
 SenderMac::SenderMac() : ctx_(EVP_CIPHER_CTX_new()) {

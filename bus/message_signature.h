@@ -1,6 +1,7 @@
 // What a signed message looks like on the bus, and the MAC both ends compute.
 //
-//   payload (the LCM message, unchanged) | "IGB1" | sender (16) | counter (8, big-endian) | tag (16)
+//   payload (the LCM message, unchanged) | "IGB1" | sender (16) | counter (8) | time (8) | tag (16)
+//   (counter and time big-endian; time: the sender's wall clock, microseconds since 1970)
 //
 // The trailer sits after the payload, so a reader without the key decodes the
 // message as before (LCM's decoders stop at the message's end). The tag is
@@ -28,17 +29,21 @@ namespace igms::bus {
 using SenderId = std::array<uint8_t, 16>;
 
 inline constexpr char kMagic[4] = {'I', 'G', 'B', '1'};
-inline constexpr size_t kSenderBytes = 16, kCounterBytes = 8, kTagBytes = 16;
-inline constexpr size_t kTrailerBytes = sizeof kMagic + kSenderBytes + kCounterBytes + kTagBytes;  // 44
+inline constexpr size_t kSenderBytes = 16, kCounterBytes = 8, kTimeBytes = 8, kTagBytes = 16;
+inline constexpr size_t kTrailerBytes = sizeof kMagic + kSenderBytes + kCounterBytes + kTimeBytes + kTagBytes;  // 52
 
 // The trailer of a message, when it has one (the magic at its place).
 struct Trailer {
   SenderId sender{};
   uint64_t counter = 0;
+  int64_t time_us = 0;  // when the sender signed it (its wall clock)
   const uint8_t* tag = nullptr;
   size_t payload_bytes = 0;
 };
 bool findTrailer(const uint8_t* data, size_t size, Trailer* out);
+
+// The wall clock the trailer's time is in, microseconds since 1970.
+int64_t wallClockMicros();
 
 // A sender's key from the bus key: HMAC-SHA256(bus key, "igms bus v1" | sender).
 // Keyed once, so each derivation costs 0.5 us, not the 2.9 us of a one-shot

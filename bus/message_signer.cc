@@ -34,6 +34,9 @@ size_t MessageSigner::sign(std::string_view channel, uint8_t* buffer, size_t siz
   std::memcpy(t + sizeof kMagic, processSender().data(), kSenderBytes);
   uint8_t* c = t + sizeof kMagic + kSenderBytes;
   for (size_t i = 0; i < kCounterBytes; ++i) c[i] = static_cast<uint8_t>(counter >> (8 * (kCounterBytes - 1 - i)));
+  const auto time = static_cast<uint64_t>(wallClockMicros());
+  uint8_t* w = c + kCounterBytes;
+  for (size_t i = 0; i < kTimeBytes; ++i) w[i] = static_cast<uint8_t>(time >> (8 * (kTimeBytes - 1 - i)));
   const size_t signed_size = size + kTrailerBytes;
   if (!mac_.compute(channel, buffer, signed_size, counter, buffer + signed_size - kTagBytes))
     std::memset(buffer + signed_size - kTagBytes, 0, kTagBytes);  // refused by every receiver, never a valid tag

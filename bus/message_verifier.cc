@@ -2,6 +2,7 @@
 
 #include <openssl/crypto.h>
 
+#include <chrono>
 #include <cstdio>
 
 namespace igms::bus {
@@ -22,7 +23,9 @@ const char* advice(Refusal r) {
     case Refusal::kReplayed:
       return "was seen before (a replay) or is older than the last 1024 from its sender";
     case Refusal::kTooManySenders:
-      return "comes from one sender too many (more than 64 processes, or 1024 streams, with the key)";
+      return "comes from one sender too many (more than 256 processes, or 2048 streams, heard within a minute)";
+    case Refusal::kStale:
+      return "was signed more than a minute ago or ahead by this machine's clock (a replay, or clocks apart)";
   }
   return "";
 }
@@ -32,10 +35,12 @@ const char* advice(Refusal r) {
 struct MessageVerifier::Sender {
   SenderId id{};
   SenderMac mac;
+  bool used = false;
+  double heard = 0.0;  // steady clock, s: its newest accepted message
 };
 
 const char* refusalName(Refusal r) {
-  static const char* names[kRefusals] = {"unsigned", "bad_signature", "replayed", "too_many_senders"};
+  static const char* names[kRefusals] = {"unsigned", "bad_signature", "replayed", "too_many_senders", "stale"};
   return names[static_cast<int>(r)];
 }
 
@@ -73,15 +78,18 @@ Verdict MessageVerifier::refuse(Refusal why, std::string_view channel) {
 bool MessageVerifier::acceptCounter(int sender, std::string_view channel, uint64_t counter, Refusal* why) {
   const uint64_t ch = fnv1a(channel);
   Stream* s = nullptr;
-  for (int k = 0; k < nstreams_ && !s; ++k)
-    if (streams_[static_cast<size_t>(k)].sender == sender && streams_[static_cast<size_t>(k)].channel == ch)
-      s = &streams_[static_cast<size_t>(k)];
+  Stream* free_place = nullptr;
+  for (int k = 0; k < nstreams_ && !s; ++k) {
+    Stream& x = streams_[static_cast<size_t>(k)];
+    if (x.sender == sender && x.channel == ch) s = &x;
+    else if (x.sender < 0 && !free_place) free_place = &x;  // an evicted sender's
+  }
   if (!s) {
-    if (nstreams_ == kMaxStreams) {
+    if (!free_place && nstreams_ == kMaxStreams) {
       *why = Refusal::kTooManySenders;
       return false;
     }
-    s = &streams_[static_cast<size_t>(nstreams_++)];
+    s = free_place ? free_place : &streams_[static_cast<size_t>(nstreams_++)];
     *s = Stream{sender, ch, counter, {}};
     setBit(*s, counter);
     return true;
@@ -105,7 +113,27 @@ bool MessageVerifier::acceptCounter(int sender, std::string_view channel, uint64
   return true;
 }
 
+int MessageVerifier::placeFor(double steady_s) {
+  if (nsenders_ < kMaxSenders) return nsenders_++;
+  int idle = -1;
+  for (int k = 0; k < nsenders_; ++k) {
+    const Sender& s = *senders_[static_cast<size_t>(k)];
+    if (steady_s - s.heard > kMaxAgeS && (idle < 0 || s.heard < senders_[static_cast<size_t>(idle)]->heard)) idle = k;
+  }
+  if (idle < 0) return -1;
+  for (int k = 0; k < nstreams_; ++k)  // its streams go with it
+    if (streams_[static_cast<size_t>(k)].sender == idle) streams_[static_cast<size_t>(k)].sender = -1;
+  return idle;
+}
+
 Verdict MessageVerifier::check(std::string_view channel, const uint8_t* data, size_t size) {
+  if (!key_) return checkAt(channel, data, size, 0, 0.0);
+  return checkAt(channel, data, size, wallClockMicros(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+}
+
+Verdict MessageVerifier::checkAt(std::string_view channel, const uint8_t* data, size_t size, int64_t now_us,
+                                 double steady_s) {
   Trailer t;
   const bool has_trailer = findTrailer(data, size, &t);
   if (!key_) {
@@ -123,7 +151,7 @@ Verdict MessageVerifier::check(std::string_view channel, const uint8_t* data, si
   if (!has_trailer) return refuse(Refusal::kUnsigned, channel);
   int sender = -1;
   for (int k = 0; k < nsenders_ && sender < 0; ++k)
-    if (senders_[static_cast<size_t>(k)]->id == t.sender) sender = k;
+    if (senders_[static_cast<size_t>(k)]->used && senders_[static_cast<size_t>(k)]->id == t.sender) sender = k;
   Sender* s = sender >= 0 ? senders_[static_cast<size_t>(sender)].get() : scratch_.get();
   if (sender < 0) {
     s->id = t.sender;
@@ -132,14 +160,19 @@ Verdict MessageVerifier::check(std::string_view channel, const uint8_t* data, si
   uint8_t tag[kTagBytes];
   if (!s->mac.compute(channel, data, size, t.counter, tag) || CRYPTO_memcmp(tag, t.tag, kTagBytes) != 0)
     return refuse(Refusal::kBadSignature, channel);
+  const double age_s = 1e-6 * static_cast<double>(now_us - t.time_us);
+  if (age_s > kMaxAgeS || age_s < -kMaxAgeS) return refuse(Refusal::kStale, channel);
   if (sender < 0) {
     // A new process with the key: it gets a place (the scratch context becomes its own).
-    if (nsenders_ == kMaxSenders) return refuse(Refusal::kTooManySenders, channel);
-    sender = nsenders_++;
+    sender = placeFor(steady_s);
+    if (sender < 0) return refuse(Refusal::kTooManySenders, channel);
     std::swap(senders_[static_cast<size_t>(sender)], scratch_);
+    senders_[static_cast<size_t>(sender)]->used = true;
+    scratch_->used = false;  // an evicted sender's context, free for the next new one
   }
   Refusal why;
   if (!acceptCounter(sender, channel, t.counter, &why)) return refuse(why, channel);
+  senders_[static_cast<size_t>(sender)]->heard = steady_s;
   accepted_.fetch_add(1, std::memory_order_relaxed);
   return Verdict{true, Refusal::kUnsigned, t.payload_bytes};
 }

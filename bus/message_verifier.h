@@ -3,7 +3,11 @@
 // new for that sender on that channel: newer than any seen, or one of the
 // kWindow before the newest not seen yet (an IPsec-style window, so the
 // reordering of a jittery link is no replay: 20 ms of jitter reorders a 1 kHz
-// stream's catch-up bursts by more than 64). Refusals are counted by reason. Without a key
+// stream's catch-up bursts by more than 64), and signed within kMaxAgeS of
+// now by the receiver's clock. A sender silent for longer than that gives its
+// place to a new one when the table is full: whatever of it was captured is
+// stale by then, so a restarted program never runs out of places and an old
+// message never comes back. Refusals are counted by reason. Without a key
 // everything is accepted (the unauthenticated bus), and signed messages are
 // counted so the program can say it lacks the key. One verifier per receiving
 // thread; the counts may be read from any thread. Checking allocates nothing:
@@ -24,9 +28,9 @@
 
 namespace igms::bus {
 
-enum class Refusal : int { kUnsigned = 0, kBadSignature = 1, kReplayed = 2, kTooManySenders = 3 };
-inline constexpr int kRefusals = 4;
-const char* refusalName(Refusal r);  // "unsigned", "bad_signature", "replayed", "too_many_senders"
+enum class Refusal : int { kUnsigned = 0, kBadSignature = 1, kReplayed = 2, kTooManySenders = 3, kStale = 4 };
+inline constexpr int kRefusals = 5;
+const char* refusalName(Refusal r);  // "unsigned", "bad_signature", "replayed", "too_many_senders", "stale"
 
 struct Verdict {
   bool accepted = false;
@@ -43,8 +47,9 @@ struct VerifierCounts {
 
 class MessageVerifier {
  public:
-  static constexpr int kMaxSenders = 64;    // processes heard with a valid signature
-  static constexpr int kMaxStreams = 1024;  // (sender, channel) pairs
+  static constexpr int kMaxSenders = 256;   // processes heard with a valid signature within kMaxAgeS
+  static constexpr int kMaxStreams = 2048;  // (sender, channel) pairs
+  static constexpr double kMaxAgeS = 60.0;  // a message signed longer ago (or ahead), by the clocks, is stale
   static constexpr uint64_t kWindow = 1024;  // counters behind the newest still taken once
 
   // `program` prefixes the one line printed the first time each kind of refusal happens.
@@ -54,6 +59,8 @@ class MessageVerifier {
   MessageVerifier& operator=(const MessageVerifier&) = delete;
 
   Verdict check(std::string_view channel, const uint8_t* data, size_t size);
+  // The same at a given time: now_us on the wall clock of the trailers, steady_s on a monotonic one (tests).
+  Verdict checkAt(std::string_view channel, const uint8_t* data, size_t size, int64_t now_us, double steady_s);
   bool keyed() const { return key_.has_value(); }
   VerifierCounts counts() const;
   // "accepted 1200, refused 3 (bad_signature 3)": for a program's exit line.
@@ -73,6 +80,7 @@ class MessageVerifier {
   static void setBit(Stream& s, uint64_t c) { s.seen[c % kWindow / 64] |= uint64_t{1} << (c % 64); }
   Verdict refuse(Refusal why, std::string_view channel);
   bool acceptCounter(int sender, std::string_view channel, uint64_t counter, Refusal* why);
+  int placeFor(double steady_s);  // a free sender place, or an idle sender's; -1 when none
 
   std::optional<BusKey> key_;
   std::unique_ptr<SenderKeys> keys_;

@@ -17,7 +17,7 @@ cleanup() {
   ip netns pids "$b" 2>/dev/null | xargs -r kill 2>/dev/null || true
   ip netns del "$a" 2>/dev/null || true
   ip netns del "$b" 2>/dev/null || true
-  rm -rf "$out"
+  [[ -n ${KEEP:-} ]] || rm -rf "$out"
 }
 trap cleanup EXIT
 ip netns add "$a"

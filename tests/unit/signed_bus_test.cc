@@ -43,7 +43,7 @@ TEST(SignedBus, ASignedMessageIsAcceptedOnceAndItsPayloadComesBack) {
   MessageVerifier v(keyOf(1), "test");
   const std::vector<uint8_t> payload = {1, 2, 3, 4, 5};
   const auto m = signedMessage(signer, "IGMS_ROBOT_STATE", payload);
-  ASSERT_EQ(m.size(), payload.size() + 44);
+  ASSERT_EQ(m.size(), payload.size() + 52);
   const Verdict first = check(v, "IGMS_ROBOT_STATE", m);
   EXPECT_TRUE(first.accepted);
   EXPECT_EQ(first.payload_bytes, payload.size());
@@ -151,12 +151,78 @@ TEST(SignedBus, AReaderWithoutTheKeyDecodesAsBefore) {
   EXPECT_EQ(unkeyed.counts().signed_unchecked, 1);
 }
 
+// The trailer written out here from its description in message_signature.h, not by MessageSigner: a
+// second reading of the format, and any sender, counter and time a test needs.
+std::vector<uint8_t> signedAs(const BusKey& key, const SenderId& sender, uint64_t counter, int64_t time_us,
+                              const std::string& channel, std::vector<uint8_t> payload) {
+  auto put = [&](uint64_t v) {
+    for (int i = 7; i >= 0; --i) payload.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  };
+  payload.insert(payload.end(), kMagic, kMagic + 4);
+  payload.insert(payload.end(), sender.begin(), sender.end());
+  put(counter);
+  put(static_cast<uint64_t>(time_us));
+  payload.resize(payload.size() + kTagBytes);
+  SenderKeys keys(key);
+  SenderMac mac;
+  EXPECT_TRUE(mac.key(keys, sender));
+  EXPECT_TRUE(mac.compute(channel, payload.data(), payload.size(), counter, payload.data() + payload.size() - kTagBytes));
+  return payload;
+}
+
+SenderId senderOf(int k) {
+  SenderId s{};
+  s[0] = static_cast<uint8_t>(k);
+  s[1] = static_cast<uint8_t>(k >> 8);
+  return s;
+}
+
+TEST(SignedBus, AMessageSignedOverAMinuteAgoOrAheadIsStale) {
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  const int64_t now = wallClockMicros();
+  const auto at = [&](int64_t t, uint64_t counter) {
+    const auto m = signedAs(keyOf(1), senderOf(1), counter, t, "C", {1, 2});
+    return v.checkAt("C", m.data(), m.size(), now, 100.0);
+  };
+  EXPECT_TRUE(at(now - 59'000'000, 1).accepted);
+  EXPECT_EQ(at(now - 61'000'000, 2).why, Refusal::kStale);
+  EXPECT_EQ(at(now + 61'000'000, 3).why, Refusal::kStale);
+  EXPECT_TRUE(at(now + 1'000'000, 4).accepted);  // clocks a second apart: fine
+}
+
+TEST(SignedBus, ASenderSilentForAMinuteGivesItsPlaceToANewOne) {
+  MessageVerifier v(keyOf(1), "test");
+  v.quiet();
+  const int64_t now = wallClockMicros();
+  auto send = [&](int sender, uint64_t counter, double steady, const std::string& channel = "C") {
+    const auto m = signedAs(keyOf(1), senderOf(sender), counter, now, channel, {7});
+    return v.checkAt(channel, m.data(), m.size(), now, steady);
+  };
+  // A full table: every sender heard at t = 0 (two channels each).
+  for (int k = 0; k < MessageVerifier::kMaxSenders; ++k) {
+    ASSERT_TRUE(send(k, 1, 0.0).accepted) << k;
+    ASSERT_TRUE(send(k, 2, 0.0, "D").accepted) << k;
+  }
+  // Within the minute, a new sender has no place.
+  EXPECT_EQ(send(1000, 1, 30.0).why, Refusal::kTooManySenders);
+  // Sender 5 speaks at 30 s; at 70 s the others have been silent over a minute: a new one takes an idle place.
+  EXPECT_TRUE(send(5, 3, 30.0).accepted);
+  EXPECT_TRUE(send(1000, 1, 70.0).accepted);
+  EXPECT_TRUE(send(5, 4, 70.0).accepted);  // 5 kept its place and its window
+  EXPECT_EQ(send(5, 3, 70.0).why, Refusal::kReplayed);
+  // Restarted programs (a new sender each) never run out of places once the old ones are silent.
+  for (int k = 2000; k < 2000 + 3 * MessageVerifier::kMaxSenders; ++k)
+    ASSERT_TRUE(send(k, 1, 200.0 + 100.0 * (k - 2000)).accepted) << k;
+  EXPECT_EQ(v.counts().refused[static_cast<size_t>(Refusal::kTooManySenders)], 1);
+}
+
 TEST(SignedBus, ForgedSenderIdsNeverTakeAPlace) {
   MessageVerifier v(keyOf(1), "test");
   v.quiet();
   for (int k = 0; k < 500; ++k) {
     std::vector<uint8_t> junk(60, static_cast<uint8_t>(k));
-    std::memcpy(junk.data() + 16, kMagic, 4);  // a trailer's shape with a random sender and tag
+    std::memcpy(junk.data() + junk.size() - kTrailerBytes, kMagic, 4);  // a trailer's shape, random sender and tag
     EXPECT_EQ(check(v, "C", junk).why, Refusal::kBadSignature);
   }
   MessageSigner signer(keyOf(1));
@@ -167,6 +233,9 @@ TEST(SignedBus, SigningAndCheckingAllocateNothing) {
   MessageSigner signer(keyOf(1));
   MessageVerifier v(keyOf(1), "test");
   std::vector<uint8_t> buffer(5200 + kTrailerBytes, 3);
+  // The format as written out independently (signedAs) checks as MessageSigner's does.
+  const auto independent = signedAs(keyOf(1), senderOf(77), 1, wallClockMicros(), "IGMS_ROBOT_STATE", {1, 2, 3});
+  ASSERT_TRUE(v.check("IGMS_ROBOT_STATE", independent.data(), independent.size()).accepted);
   size_t n = signer.sign("IGMS_ROBOT_STATE", buffer.data(), 5200);
   ASSERT_TRUE(v.check("IGMS_ROBOT_STATE", buffer.data(), n).accepted);  // the sender's place is taken here
   bool all = true;
