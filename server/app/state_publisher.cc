@@ -35,11 +35,12 @@ robot_state_t sizedStateMessage(const Model& m) {
 std::string stateTooLarge(const Model& m, const std::string& scene) {
   robot_state_t msg = sizedStateMessage(m);
   const int size = msg.getEncodedSize();
-  if (size <= kMaxDatagramBytes) return "";
+  // The bus signature's trailer rides in the same datagram (keyed or not: a scene must not stop fitting when signed).
+  if (size + static_cast<int>(bus::kTrailerBytes) <= kMaxDatagramBytes) return "";
   return scene + ": its state message would be " + std::to_string(size) + " bytes (nq " + std::to_string(m.nq) +
          ", nv " + std::to_string(m.nv) + ", " + std::to_string(m.frames.size()) +
-         " links), more than one LCM datagram holds (" + std::to_string(kMaxDatagramBytes) +
-         "): fewer bodies, or fewer links (fixed joints merge their links' bodies but keep their frames)";
+         " links), more than one LCM datagram holds with the bus signature (" + std::to_string(kMaxDatagramBytes) +
+         " bytes, " + std::to_string(bus::kTrailerBytes) + " of them the signature's): fewer bodies, or fewer links (fixed joints merge their links' bodies but keep their frames)";
 }
 
 StatePublisher::StatePublisher(bus::SignedPublisher& bus, const Model& m, const std::vector<Obstacle>& obstacles,
