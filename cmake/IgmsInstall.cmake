@@ -33,7 +33,7 @@ if(IGMS_WITH_LCM)
 endif()
 
 # The programs, and what they read at run time.
-foreach(program igms-server igms-haptic igms-dyn igms-logger igms-replay igms-scenario igms-viewer igms-relay
+foreach(program igms-server igms-haptic igms-dyn igms-logger igms-replay igms-scenario igms-viewer igms-relay igms-command
                 igms-spy igms-accuracy igms-ode-ref)
   if(TARGET ${program})
     install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
