@@ -59,12 +59,12 @@ std::optional<BusKey> busKeyFor(const std::string& program, const std::string& p
   return std::nullopt;
 }
 
-std::string hexOf(const BusKey& key) {
+std::string hexOf(const uint8_t* bytes, size_t n) {
   static const char* digits = "0123456789abcdef";
   std::string s;
-  for (uint8_t b : key) {
-    s += digits[b >> 4];
-    s += digits[b & 15];
+  for (size_t i = 0; i < n; ++i) {
+    s += digits[bytes[i] >> 4];
+    s += digits[bytes[i] & 15];
   }
   return s;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -29,7 +30,8 @@ std::optional<BusKey> busKeyFor(const std::string& program, const std::string& p
 // Writes a new random key to `path` (mode 0600, refusing to overwrite).
 void createBusKeyFile(const std::string& path);
 
-// The key as 64 hex digits (for a key file; never for the bus or a log).
-std::string hexOf(const BusKey& key);
+// Bytes as hex digits: the key's 64 for a key file (never for the bus or a log), a sender's for a status.
+std::string hexOf(const uint8_t* bytes, size_t n);
+inline std::string hexOf(const BusKey& key) { return hexOf(key.data(), key.size()); }
 
 }  // namespace igms::bus

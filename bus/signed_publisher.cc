@@ -19,9 +19,11 @@ int SignedPublisher::publish(const std::string& channel, const void* data, size_
   return send(channel, size);
 }
 
-int SignedPublisher::send(const std::string& channel, size_t size) {
-  if (signer_) size = signer_->sign(channel, buffer_.data(), size);
-  return lcm_.publish(channel, buffer_.data(), static_cast<unsigned>(size));
+int SignedPublisher::send(const std::string& channel, size_t size) { return publishInPlace(channel, buffer_.data(), size); }
+
+int SignedPublisher::publishInPlace(const std::string& channel, uint8_t* buffer, size_t size) {
+  if (signer_) size = signer_->sign(channel, buffer, size);
+  return lcm_.publish(channel, buffer, static_cast<unsigned>(size));
 }
 
 }  // namespace igms::bus

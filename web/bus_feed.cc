@@ -28,7 +28,7 @@ BusFeed::BusFeed(const std::string& url, BusView& view, const std::optional<bus:
       lcm_->handleTimeout(50);
       if (monotonicSeconds() < next_status) continue;
       next_status += 1.0;
-      publish(channels::kBusStatus, bus::busStatus(program_, verifier_.keyed(), {&verifier_}, wallMicros()));
+      publish(channels::kBusStatus, bus::busStatus(program_, verifier_, wallMicros()));
     }
   });
 }

@@ -24,7 +24,7 @@ ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t
     : client_id_(client_id),
       lcm_(url.empty() ? channels::kDefaultUrl : url),
       verifier_(key, "igms-haptic"),
-      input_signer_(key ? std::make_unique<bus::MessageSigner>(*key) : nullptr),
+      input_out_(lcm_, key, 0),
       status_out_(lcm_, key, 16 * 1024),
       input_channel_(channels::kHapticInput),
       states_(initialState(nlinks, nq, nv)) {
@@ -106,10 +106,7 @@ std::vector<std::string> ClientBus::serverLinkNames() {
 
 void ClientBus::publishInput(const haptic_input_t& msg) {
   const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size() - bus::kTrailerBytes));
-  if (n <= 0) return;
-  const size_t size = input_signer_ ? input_signer_->sign(input_channel_, buffer_.data(), static_cast<size_t>(n))
-                                    : static_cast<size_t>(n);
-  lcm_.publish(input_channel_, buffer_.data(), static_cast<unsigned>(size));
+  if (n > 0) input_out_.publishInPlace(input_channel_, buffer_.data(), static_cast<size_t>(n));
 }
 
 }  // namespace igms

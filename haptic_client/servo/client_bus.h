@@ -16,7 +16,6 @@
 #include <memory>
 #include <optional>
 
-#include "bus/message_signer.h"
 #include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
 #include "core/realtime/triple_buffer.h"
@@ -64,7 +63,7 @@ class ClientBus {
   const int32_t client_id_;
   lcm::LCM lcm_;
   bus::MessageVerifier verifier_;  // the bus thread's
-  std::unique_ptr<bus::MessageSigner> input_signer_;  // the servo loop's
+  bus::SignedPublisher input_out_;  // the servo loop's: signs the input in buffer_, where it was encoded
   bus::SignedPublisher status_out_;
   const std::string input_channel_;
   TripleBuffer<ReceivedState> states_;

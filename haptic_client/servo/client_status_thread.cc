@@ -77,7 +77,7 @@ void ClientStatusThread::publishStatus(double now) {
   bus_.statusOut().publish(channels::kClientStatus, s);
   if (s.seq % 10 == 0)
     bus_.statusOut().publish(channels::kBusStatus,
-                             bus::busStatus("igms-haptic", bus_.statusOut().keyed(), {&bus_.verifier()}, s.utime));
+                             bus::busStatus("igms-haptic", bus_.verifier(), s.utime));
 }
 
 }  // namespace igms

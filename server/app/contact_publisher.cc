@@ -22,7 +22,7 @@ ContactPublisher::ContactPublisher(bus::SignedPublisher& bus, int rows) : bus_(b
   msg_.force.assign(n, std::vector<double>(3, 0.0));
   msg_.distance.assign(n, 0.0);
   msg_.ncontacts = static_cast<int32_t>(n);
-  buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
+  buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64 + bus::kTrailerBytes);  // signed in place
 }
 
 void ContactPublisher::publish(const Snapshot& s) {
@@ -44,9 +44,9 @@ void ContactPublisher::publish(const Snapshot& s) {
     }
     msg_.distance[k] = c.distance;
   }
-  const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size() - bus::kTrailerBytes));
   if (n <= 0) return;
-  bus_.publish(channel_, buffer_.data(), static_cast<size_t>(n));
+  bus_.publishInPlace(channel_, buffer_.data(), static_cast<size_t>(n));
   ++sent_;
 }
 

@@ -47,7 +47,7 @@ StatePublisher::StatePublisher(bus::SignedPublisher& bus, const Model& m, const 
                                FaultInjection faults, bool quiet)
     : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
   msg_ = sizedStateMessage(m);
-  buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64);
+  buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64 + bus::kTrailerBytes);  // signed in place
   stats_.step_times_us.reserve(4096);
 }
 
@@ -114,12 +114,12 @@ void StatePublisher::checkCollisions(const Snapshot& s) {
 void StatePublisher::publish(const Snapshot& s) {
   fill(s);
   checkCollisions(s);
-  const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-  if (n > 0 && faults_.any()) bus_.publish(truth_channel_, buffer_.data(), static_cast<size_t>(n));
+  const int n = msg_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size() - bus::kTrailerBytes));
+  if (n > 0 && faults_.any()) bus_.publishInPlace(truth_channel_, buffer_.data(), static_cast<size_t>(n));
   if (n > 0 && !faultDrops()) {
     if (faults_.delay_us > 0)
       std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(faults_.delay_us)));
-    bus_.publish(state_channel_, buffer_.data(), static_cast<size_t>(n));
+    bus_.publishInPlace(state_channel_, buffer_.data(), static_cast<size_t>(n));
   }
   stats_.last_sim_time = s.sim_time;
   stats_.step_times_us.push_back(s.step_us);

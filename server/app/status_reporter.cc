@@ -104,7 +104,7 @@ void StatusReporter::publishStatus(PublishStats& p) {
   if (seq_ % 10 == 1) {
     requestSessionInfo(s.session_token);
     bus_.publish(channels::kBusStatus,
-                 bus::busStatus("igms-server", bus_.keyed(), {&receiver_.verifier()}, s.utime));
+                 bus::busStatus("igms-server", receiver_.verifier(), s.utime));
   }
   window_start_ = now;
   t.clear();
