@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 
 set(IGMS_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/igms)
 set(igms_export_targets igms_model igms_kinematics igms_dynamics igms_model_io igms_integrate igms_realtime
-    igms_geometry igms_contact igms_interaction igms_trajectory igms_scene igms_simulation)
+    igms_geometry igms_contact igms_interaction igms_trajectory igms_scene igms_simulation igms_device_plugin)
 if(IGMS_WITH_LCM)
   list(APPEND igms_export_targets igms_lcmtypes)
 endif()
@@ -19,6 +19,8 @@ install(TARGETS ${igms_export_targets} EXPORT igmsTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/igms)
 install(EXPORT igmsTargets NAMESPACE igms:: DESTINATION ${IGMS_INSTALL_CMAKEDIR})
 
+# The device plugin ABI, for plugins built against the package: <igms/device_plugin.h>.
+install(FILES ${PROJECT_SOURCE_DIR}/haptic_client/device/device_plugin.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/igms)
 # Headers keep their paths ("core/dynamics/rnea.h") under include/igms.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/igms/core
         FILES_MATCHING PATTERN "*.h" PATTERN "cli" EXCLUDE)

@@ -47,6 +47,8 @@ class HapticDevice {
   virtual void writeTorque(const Vector3& /*torque*/) {}
   // True when a scripted device has played its whole script.
   virtual bool finished(double /*t*/) const { return false; }
+  // One line the client prints at exit (a plugin's call times), or "".
+  virtual std::string report() const { return ""; }
 };
 
 }  // namespace igms
