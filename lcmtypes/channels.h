@@ -22,5 +22,7 @@ inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartb
 inline constexpr const char* kContacts = "IGMS_CONTACTS";              // contacts_t
 // Every program, 1 Hz: its message checks' counts (bus/message_verifier.h).
 inline constexpr const char* kBusStatus = "IGMS_BUS_STATUS";           // bus_status_t
+// The haptic client, 1 Hz: its device's call times and the limits it renders to.
+inline constexpr const char* kDeviceStatus = "IGMS_DEVICE_STATUS";     // device_status_t
 
 }  // namespace igms::channels

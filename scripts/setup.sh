@@ -22,6 +22,7 @@ packages=(
   libjchart2d-java                            # lcm-spy's charts (scripts/lcm_spy.sh; NoClassDefFoundError without)
   iproute2 util-linux                         # ip, unshare: private network namespace for LCM
   python3 python3-yaml python3-matplotlib     # model generators, plots
+  python3-cryptography                        # Python on a signed bus (python/igmsbus.py: a device in Python)
   python3-pip python3-venv python3-numpy      # PyPI: example-robot-data (fetch_robots.sh), lcm (python_env.sh)
   libwebsocketpp-dev libboost-dev libjs-three # browser view: HTTP/WebSocket server, three.js in the page
   chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)

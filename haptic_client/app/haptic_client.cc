@@ -10,6 +10,7 @@
 #include "core/realtime/realtime_priority.h"
 #include "core/scene/resolved_scene.h"
 #include "haptic_client/device/device_registry.h"
+#include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/client_bus.h"
 #include "haptic_client/servo/client_status_thread.h"
 #include "haptic_client/servo/servo_loop.h"
@@ -76,6 +77,39 @@ void printSummary(const ServoStats& s, double wall) {
                  static_cast<long long>(s.age_all.overflow()), s.age_all.limit() * 1e-3);
 }
 
+// What the client renders to: the device's limits (or igms's defaults for a device that gives none),
+// and the stiffness the scene's springs have at the device (a device's metre is `scale` scene metres).
+void printLimits(const DeviceLimits& l, const Scene& scene) {
+  std::fprintf(stderr,
+               "igms-haptic: device limits: force %.2f N, step %.2f N a cycle, stiffness %.0f N/m, torque %.2f N m, "
+               "workspace [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m\n",
+               l.max_force, l.max_force_step, l.max_stiffness, l.max_torque, l.workspace_min.x(), l.workspace_min.y(),
+               l.workspace_min.z(), l.workspace_max.x(), l.workspace_max.y(), l.workspace_max.z());
+  const double push = scene.push.k_p * scene.workspace_scale, pull = scene.pull.k * scene.workspace_scale;
+  if (std::max(push, pull) > l.max_stiffness)
+    std::fprintf(stderr,
+                 "igms-haptic: at the device the push is %.0f N/m and the pull %.0f N/m (k x workspace scale %.3g), "
+                 "over its stable %.0f N/m: the force is clamped and slew-limited and the passivity controller damps "
+                 "it, but not scaled down\n",
+                 push, pull, scene.workspace_scale, l.max_stiffness);
+}
+
+// The device's own calls as the loop timed them, and what it reported failed.
+void printDeviceSummary(const ServoStats& s, const HapticDevice& device) {
+  std::fprintf(stderr,
+               "igms-haptic: device read p50 %s us, p99 %s us, max %.0f us; write p50 %s us, p99 %s us, max %.0f us; "
+               "%lld overruns (calls over %.0f us), %lld failed calls",
+               quantileText(s.device_read_all, 0.5).c_str(), quantileText(s.device_read_all, 0.99).c_str(),
+               s.device_read_all.max(), quantileText(s.device_write_all, 0.5).c_str(),
+               quantileText(s.device_write_all, 0.99).c_str(), s.device_write_all.max(),
+               static_cast<long long>(s.device_overruns.load()), ServoStats::kDeviceOverrunUs,
+               static_cast<long long>(device.failedCalls()));
+  if (device.readingsRejected() > 0)
+    std::fprintf(stderr, ", %lld readings rejected", static_cast<long long>(device.readingsRejected()));
+  std::fprintf(stderr, "\n");
+  if (const std::string more = device.report(); !more.empty()) std::fprintf(stderr, "igms-haptic: %s\n", more.c_str());
+}
+
 }  // namespace
 
 int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
@@ -117,12 +151,18 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
   }
+  const auto* scripted = dynamic_cast<const ScriptedDevice*>(device.get());
+  if (!o.export_targets.empty() && !scripted) {
+    std::fprintf(stderr, "igms-haptic: --export-targets needs a scripted device (--device scripted:FILE)\n");
+    return 2;
+  }
   static ServoStats stats;  // large (histograms): static storage, one client per process
-  ClientStatusThread status(bus, stats, ClientIdentity{o.client_id, device->name(), fallbackName(policy), o.lost_ms});
+  ClientStatusThread status(bus, stats, *device, ClientIdentity{o.client_id, device->name(), fallbackName(policy), o.lost_ms});
   if (const int code = connect(bus, model, o, stop)) return code == kStoppedWaiting ? 0 : code;
   if (!o.quiet)
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
                  o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
+  if (!o.quiet) printLimits(device->limits(), resolved.scene);
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
                  ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
                              o.passivity_tolerance_mj * 1e-3});
@@ -130,12 +170,23 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status
-  if (!o.quiet) printSummary(stats, wall);
+  if (!o.quiet) {
+    printSummary(stats, wall);
+    printDeviceSummary(stats, *device);
+  }
   if (!o.quiet || bus.verifier().keyed() || bus.verifier().counts().refusedTotal() > 0)
     std::fprintf(stderr, "igms-haptic: bus: %s\n", bus.verifier().summary().c_str());
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
                  static_cast<long long>(bus.undecodable()));
+  if (!o.export_targets.empty()) {
+    FILE* f = std::fopen(o.export_targets.c_str(), "w");
+    const std::string text = scripted->pluginTargets();
+    if (!f || std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fclose(f) != 0) {
+      std::fprintf(stderr, "igms-haptic: --export-targets %s: cannot write it\n", o.export_targets.c_str());
+      return 2;
+    }
+  }
   return 0;
 }
 

@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
   app.add_option("--connect-timeout", o.connect_timeout, "seconds to wait for the server's first status")
       ->check(igms::cli::positive("SECONDS"));
   app.add_flag("--quiet", o.quiet, "no start and summary lines on stderr");
+  app.add_option("--export-targets", o.export_targets,
+                 "after the run, write a scripted device's targets as its device saw them (device frame, link "
+                 "waypoints resolved) for the example device plugin (examples/device_plugin)");
   app.add_option("--rt-priority", o.rt_priority,
                  "ask for SCHED_FIFO at this priority (1-99) for the servo loop and lock memory; a warning and a "
                  "normal process when not allowed (0: do not ask)")

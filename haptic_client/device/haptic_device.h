@@ -4,6 +4,7 @@
 // behind a CMake option that is off by default; see docs/client.md "Adding a device".
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "core/model/spatial.h"
@@ -30,6 +31,9 @@ struct DeviceReading {
   // Pull from this link point instead of the scene's (-1: the scene's pull
   // link and point). A device that can pick a link (the browser) sets it.
   int attach_frame = -1;
+  // A device whose readings stopped coming (a bus device): the loop ramps the force out and lets go,
+  // as for a lost server, and back when readings return.
+  bool device_lost = false;
   Vector3 attach_point = Vector3::Zero();  // in the link frame, m
 };
 
@@ -47,7 +51,14 @@ class HapticDevice {
   virtual void writeTorque(const Vector3& /*torque*/) {}
   // True when a scripted device has played its whole script.
   virtual bool finished(double /*t*/) const { return false; }
-  // One line the client prints at exit (a plugin's call times), or "".
+  // Calls the device reported failed, or readings it gave with non-finite values (total).
+  // Read by the status thread while the loop runs: an atomic in the device.
+  virtual int64_t failedCalls() const { return 0; }
+  // A bus device: readings refused as invalid, stale or out of order (total), and the age of the
+  // reading behind the last cycle, ms.
+  virtual int64_t readingsRejected() const { return 0; }
+  virtual double readingAgeMs() const { return 0.0; }
+  // One more line for the client's exit summary (a bus device's readings by verdict), or "".
   virtual std::string report() const { return ""; }
 };
 

@@ -2,7 +2,6 @@
 
 #include <dlfcn.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -12,30 +11,9 @@
 namespace igms {
 namespace {
 
-double elapsedUs(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - since).count();
-}
-
 bool finite3(const double* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
-
-void CallTimes::add(double us) {
-  const size_t bin = us < 0 ? 0 : std::min<size_t>(bins_.size() - 1, static_cast<size_t>(us));
-  ++bins_[bin];
-  ++count_;
-  if (us > kOverrunUs) ++overruns_;
-  if (us > max_) max_ = us;
-}
-
-double CallTimes::quantile(double q) const {
-  if (count_ == 0) return 0.0;
-  const auto want = static_cast<int64_t>(std::ceil(q * static_cast<double>(count_)));
-  int64_t seen = 0;
-  for (size_t k = 0; k < bins_.size(); ++k)
-    if ((seen += bins_[k]) >= want) return static_cast<double>(k + 1);  // the bin's upper edge
-  return max_;
-}
 
 PluginDevice::PluginDevice(const std::string& spec) {
   const size_t colon = spec.find(':');
@@ -100,9 +78,7 @@ PluginDevice::~PluginDevice() {
 
 DeviceReading PluginDevice::read(double t) {
   igms_device_reading r{};
-  const auto start = std::chrono::steady_clock::now();
   const int rc = api_.read(device_, t, &r);
-  read_times_.add(elapsedUs(start));
   // A failed read, or one with a non-finite value, is counted and the last good reading stands.
   if (rc != 0 || !finite3(r.position) || !finite3(r.velocity) || (r.has_orientation && !finite3(r.angular_velocity))) {
     ++failed_;
@@ -126,25 +102,12 @@ DeviceReading PluginDevice::read(double t) {
 
 void PluginDevice::write(const Vector3& force) {
   const double f[3] = {force.x(), force.y(), force.z()};
-  const auto start = std::chrono::steady_clock::now();
   if (api_.write(device_, f) != 0) ++failed_;
-  write_times_.add(elapsedUs(start));
 }
 
 void PluginDevice::writeTorque(const Vector3& torque) {
   const double m[3] = {torque.x(), torque.y(), torque.z()};
   if (api_.write_torque(device_, m) != 0) ++failed_;
-}
-
-std::string PluginDevice::report() const {
-  char line[320];
-  std::snprintf(line, sizeof line,
-                "device plugin %s: read p99 %.0f us, max %.0f us; write p99 %.0f us, max %.0f us; %lld overruns "
-                "(calls over %.0f us), %lld failed calls",
-                path_.c_str(), read_times_.quantile(0.99), read_times_.max(), write_times_.quantile(0.99),
-                write_times_.max(), static_cast<long long>(read_times_.overruns() + write_times_.overruns()),
-                CallTimes::kOverrunUs, static_cast<long long>(failed_));
-  return line;
 }
 
 IGMS_REGISTER_DEVICE((DeviceEntry{

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace igms {
@@ -172,6 +173,27 @@ DeviceReading ScriptedDevice::read(double t) {
   last_device_ = r.position;
   last_position_ = frame_scene_ ? map_.toScene(r.position) : r.position;
   return r;
+}
+
+std::string ScriptedDevice::pluginTargets() const {
+  std::string out = "# " + path_ + " as its device saw it (igms-haptic --export-targets)\n";
+  char line[160];
+  if (hand_) {
+    std::snprintf(line, sizeof line, "hand %.17g %.17g %.17g\n", hand_mass_, hand_k_, hand_b_);
+    out += line;
+  }
+  for (const Waypoint& w : waypoints_) {
+    const Vector3 at = w.resolved ? w.xyz : last_position_;
+    const Vector3 d = frame_scene_ ? map_.toDevice(at) : at;
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", w.t, d.x(), d.y(), d.z());
+    out += line;
+  }
+  for (const ButtonEvent& e : buttons_) {
+    std::snprintf(line, sizeof line, "button %.17g %d\n", e.t, e.down ? 1 : 0);
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "end %.17g\n", end_);
+  return out + line;
 }
 
 }  // namespace igms

@@ -55,6 +55,11 @@ class ScriptedDevice : public HapticDevice {
   const Vector3& lastTorque() const { return torque_; }
   bool finished(double t) const override { return t >= end_; }
   double endTime() const { return end_; }
+  // The script as its device saw it (device frame, link waypoints as they were resolved; one not
+  // reached yet at the last position), in the example device plugin's targets format
+  // (examples/device_plugin/sim_device.c): "hand M K B", "T X Y Z" and "button T DOWN" lines.
+  // A press's `attach` and the tip's orientation have no place there and are left out.
+  std::string pluginTargets() const;
 
  private:
   struct Waypoint {

@@ -7,11 +7,14 @@
 #include "core/realtime/clock.h"
 #include "core/realtime/udp_drops.h"
 #include "igms/client_status_t.hpp"
+#include "igms/device_status_t.hpp"
 
 namespace igms {
 
-ClientStatusThread::ClientStatusThread(ClientBus& bus, ServoStats& stats, ClientIdentity who)
-    : bus_(bus), stats_(stats), who_(std::move(who)), last_t_(monotonicSeconds()) {
+ClientStatusThread::ClientStatusThread(ClientBus& bus, ServoStats& stats, const HapticDevice& device,
+                                       ClientIdentity who)
+    : bus_(bus), stats_(stats), device_(device), limits_(device.limits()), who_(std::move(who)),
+      last_t_(monotonicSeconds()) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -22,7 +25,7 @@ ClientStatusThread::~ClientStatusThread() {
 
 void ClientStatusThread::run() {
   double next_status = monotonicSeconds() + 0.1;
-  bool was_lost = false;
+  bool was_lost = false, device_was_lost = false;
   while (!stop_) {
     bus_.lcm().handleTimeout(5);
     const double now = monotonicSeconds();
@@ -32,6 +35,11 @@ void ClientStatusThread::run() {
         std::fprintf(stderr, "igms-haptic: server lost (no state for %.0f ms): forces ramping down\n", who_.lost_ms);
       else
         std::fprintf(stderr, "igms-haptic: server back: forces ramping up\n");
+    }
+    if (stats_.device_lost != device_was_lost) {
+      device_was_lost = stats_.device_lost;
+      std::fprintf(stderr, device_was_lost ? "igms-haptic: device lost (its readings stopped): forces ramping down\n"
+                                           : "igms-haptic: device back: forces ramping up\n");
     }
     if (now < next_status) continue;
     next_status += 0.1;
@@ -75,9 +83,35 @@ void ClientStatusThread::publishStatus(double now) {
   s.states_missed = bus_.statesMissed();
   s.socket_drops = ownUdpDrops();
   bus_.statusOut().publish(channels::kClientStatus, s);
-  if (s.seq % 10 == 0)
-    bus_.statusOut().publish(channels::kBusStatus,
-                             bus::busStatus("igms-haptic", bus_.verifier(), s.utime));
+  if (s.seq % 10 == 0) {
+    bus_.statusOut().publish(channels::kBusStatus, bus::busStatus("igms-haptic", bus_.verifier(), s.utime));
+    publishDeviceStatus(s.utime);
+  }
+}
+
+void ClientStatusThread::publishDeviceStatus(int64_t utime) {
+  device_status_t d{};
+  d.utime = utime;
+  d.client_id = who_.client_id;
+  d.device = who_.device;
+  const auto r = stats_.device_read_us.drain(), w = stats_.device_write_us.drain();
+  d.read_us_p50 = r[0]; d.read_us_p99 = r[1]; d.read_us_max = r[2];
+  d.write_us_p50 = w[0]; d.write_us_p99 = w[1]; d.write_us_max = w[2];
+  d.read_us_max_all = stats_.device_read_max;
+  d.write_us_max_all = stats_.device_write_max;
+  d.overruns = stats_.device_overruns;
+  d.failed_calls = device_.failedCalls();
+  d.readings_rejected = device_.readingsRejected();
+  d.reading_age_ms = device_.readingAgeMs();
+  d.max_force = limits_.max_force;
+  d.max_force_step = limits_.max_force_step;
+  d.max_stiffness = limits_.max_stiffness;
+  d.max_torque = limits_.max_torque;
+  for (int k = 0; k < 3; ++k) {
+    d.workspace_min[k] = limits_.workspace_min[k];
+    d.workspace_max[k] = limits_.workspace_max[k];
+  }
+  bus_.statusOut().publish(channels::kDeviceStatus, d);
 }
 
 }  // namespace igms

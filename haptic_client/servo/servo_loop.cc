@@ -56,10 +56,20 @@ double ServoLoop::run(const std::atomic<bool>& stop) {
   return monotonicSeconds() - start;
 }
 
+void ServoLoop::timeDeviceCall(double us, SampleRing& window, Histogram& all, std::atomic<double>& max) {
+  window.push(us);
+  all.add(us);
+  if (us > max.load(std::memory_order_relaxed)) max.store(us, std::memory_order_relaxed);
+  if (us > ServoStats::kDeviceOverrunUs) ++stats_.device_overruns;
+}
+
 void ServoLoop::cycle(int64_t k, double nominal_start) {
   // 1. The device, mapped into the scene.
   const double t = static_cast<double>(k - 1) * period_;
+  const double read_start = monotonicSeconds();
   const DeviceReading reading = device_.read(t);
+  timeDeviceCall((monotonicSeconds() - read_start) * 1e6, stats_.device_read_us, stats_.device_read_all,
+                 stats_.device_read_max);
   const Vector3 tip = map_.toScene(reading.position);
   const Vector3 tip_velocity = map_.scale * reading.velocity;
   // 2. The input: pull while the button is held, push when the tip touches a link.
@@ -78,7 +88,7 @@ void ServoLoop::cycle(int64_t k, double nominal_start) {
   sent_inputs_.put(k, sent, sent_at);
   stats_.mode = msg_.mode;
   // 3. The states; 4. the force.
-  render(k, tip, tip_velocity, awaitState(k, nominal_start));
+  render(k, tip, tip_velocity, awaitState(k, nominal_start), reading.device_lost);
   ++stats_.cycles;
 }
 
@@ -153,7 +163,7 @@ double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
   return horizon;
 }
 
-void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time) {
+void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time, bool device_lost) {
   const double now = monotonicSeconds();
   double age_ms = 0.0;
   if (estimate_.any()) {
@@ -171,17 +181,22 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
     stats_.max_consecutive = std::max<int64_t>(stats_.max_consecutive, ++consecutive_misses_);
   }
   // Lost: no new state for lost_ms; the force ramps down, and back up when states return.
-  const bool lost = estimate_.any() && (now - estimate_.newestReceived()) * 1e3 > config_.lost_ms;
-  stats_.lost = lost;
+  const bool server_lost = estimate_.any() && (now - estimate_.newestReceived()) * 1e3 > config_.lost_ms;
+  stats_.lost = server_lost;
+  stats_.device_lost = device_lost;
+  const bool lost = server_lost || device_lost;
   if (lost) interaction_.disengagePush();
   const Vector3 on_user =
       estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity) : Vector3::Zero();
   const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
   resync_ = false;
-  device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
   const Vector3 torque = interaction_.renderTorque(interaction_.userTorque(), period_, device_limits_.max_torque,
                                                    device_limits_.max_torque_step, render_limits_.passivity);
+  const double write_start = monotonicSeconds();
+  device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
   if (device_limits_.max_torque > 0.0) device_.writeTorque(torque);
+  timeDeviceCall((monotonicSeconds() - write_start) * 1e6, stats_.device_write_us, stats_.device_write_all,
+                 stats_.device_write_max);
   for (int i = 0; i < 3; ++i) stats_.torque[i] = torque[i];
   stats_.max_force_step = interaction_.maxForceStep();
   stats_.slew_limited = interaction_.slewLimited();

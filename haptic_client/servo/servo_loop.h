@@ -52,9 +52,11 @@ class ServoLoop {
 
  private:
   void cycle(int64_t k, double nominal_start);
+  // One device call's duration: the window, the run's histogram and maximum, an overrun past 100 us.
+  void timeDeviceCall(double us, SampleRing& window, Histogram& all, std::atomic<double>& max);
   bool awaitState(int64_t k, double nominal_start);
   void take(const ReceivedState& r);
-  void render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time);
+  void render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time, bool device_lost);
   double oneWayDelay() const;
   // The robot for this cycle's force (into links_); returns the horizon, s.
   double estimateRobot(int64_t k, double age, bool on_time);

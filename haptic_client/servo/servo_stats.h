@@ -97,11 +97,17 @@ struct ServoStats {
   std::atomic<double> force[3] = {0, 0, 0};
   std::atomic<double> torque[3] = {0, 0, 0};  // N m rendered (a 6-dof device's 6-D pull)
   std::atomic<int64_t> phase_shifts{0};        // the loop's phase moved after another hand's (servo_loop.cc)
-  std::atomic<bool> lost{false}, finished{false};
+  std::atomic<bool> lost{false}, device_lost{false}, finished{false};
   SampleRing jitter, rtt, age_us;
   Histogram rtt_all{10.0};  // 10 us bins: round trips up to 200 ms
   Histogram jitter_all;
   Histogram age_all{10.0};  // 10 us bins: state ages up to 200 ms
+  // The device's own calls, timed by the loop around read and write (a plugin's must not block).
+  static constexpr double kDeviceOverrunUs = 100.0;
+  SampleRing device_read_us, device_write_us;
+  Histogram device_read_all, device_write_all;
+  std::atomic<double> device_read_max{0}, device_write_max{0};
+  std::atomic<int64_t> device_overruns{0};
 };
 
 }  // namespace igms

@@ -20,6 +20,9 @@
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
 #include "igms/bus_status_t.hpp"
+#include "igms/device_force_t.hpp"
+#include "igms/device_reading_t.hpp"
+#include "igms/device_status_t.hpp"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -141,6 +144,50 @@ bool summarize<igms::bus_status_t>(const uint8_t* d, int n, std::string* name, s
   return true;
 }
 
+// The haptic client's device, once a second: its calls' times, overruns, refused readings, limits.
+template <>
+bool summarize<igms::device_status_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::device_status_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "device_status_t";
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s: read p99 %.0f us max %.0f us, write p99 %.0f us max %.0f us, %lld overruns, %lld failed, "
+                "%lld readings refused, max force %.2f N",
+                m.device.c_str(), m.read_us_p99, m.read_us_max, m.write_us_p99, m.write_us_max,
+                static_cast<long long>(m.overruns), static_cast<long long>(m.failed_calls),
+                static_cast<long long>(m.readings_rejected), m.max_force);
+  *line = buf;
+  *seq = -1;
+  return true;
+}
+// A device on the bus (igms-haptic --device lcm): its readings, and the forces back.
+template <>
+bool summarize<igms::device_reading_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::device_reading_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "device_reading_t";
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "tip (%.4f, %.4f, %.4f) m, buttons %d%s", m.position[0], m.position[1],
+                m.position[2], m.buttons, m.has_orientation ? ", 6-dof" : "");
+  *line = buf;
+  *seq = m.seq;
+  return true;
+}
+template <>
+bool summarize<igms::device_force_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::device_force_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "device_force_t";
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "force (%.3f, %.3f, %.3f) N for reading %lld (%.0f us old at the cycle)",
+                m.force[0], m.force[1], m.force[2], static_cast<long long>(m.reading_seq),
+                static_cast<double>(m.reading_age_us));
+  *line = buf;
+  *seq = m.seq;
+  return true;
+}
+
 struct Decoder {
   int64_t hash;
   bool (*fn)(const uint8_t*, int, std::string*, std::string*, int64_t*);
@@ -168,7 +215,8 @@ class Spy {
     decoders_ = {decoder<igms::robot_state_t>(), decoder<igms::haptic_input_t>(), decoder<igms::server_status_t>(),
                  decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
                  decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>(),
-                 decoder<igms::bus_status_t>()};
+                 decoder<igms::bus_status_t>(), decoder<igms::device_status_t>(), decoder<igms::device_reading_t>(),
+                 decoder<igms::device_force_t>()};
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     if (!std::regex_match(channel, filter_)) return;

@@ -17,7 +17,8 @@ export class Hud {
     $('device-controls').hidden = role !== 'device';
     $('help').textContent = role === 'device'
       ? 'drag a link: push (wheel: deeper / back) · shift-drag: pull (+alt: turn it) · right-drag: orbit · ' +
-        'space pause/resume · s step · r reset · w save · v view · c contacts'
+        'space pause/resume · s step · r reset · w save · v view · c contacts · ' +
+        'gamepad: sticks move the tip, A push, B grab'
       : 'drag: orbit · right-drag: pan · wheel: zoom · v: reset view · c: contacts';
   }
 
@@ -40,6 +41,8 @@ export class Hud {
   connection(open) { $('banner-connection').hidden = open; }
 
   notice(text) { $('notice').textContent = text; }
+
+  gamepad(id) { $('gamepad').textContent = id || 'none'; }
 
   frame(f) {
     $('sim-time').textContent = f.t !== undefined ? fixed(f.t, 3) + ' s' : '–';

@@ -11,6 +11,7 @@ import { RobotView } from './robot_view.js';
 import { ContactView } from './contact_view.js';
 import { Hud } from './hud.js';
 import { MouseDevice } from './mouse_device.js';
+import { GamepadDevice, spaceMouseReport } from './gamepad_device.js';
 import { Timeline } from './timeline.js';
 
 const container = document.getElementById('view');
@@ -86,6 +87,8 @@ function send(message) {
 }
 
 const device = new MouseDevice({ element: renderer.domElement, camera, controls, robot, send });
+// A gamepad or 3-D mouse drives the same device, in the same message sequence, while the mouse does not.
+const gamepad = new GamepadDevice({ scene, camera, robot, send: (m) => device.flushMessage(m), busy: () => !!device.drag });
 const timeline = new Timeline(send);
 
 const state = {
@@ -109,6 +112,12 @@ document.getElementById('pause').addEventListener('click', togglePause);
 document.getElementById('step').addEventListener('click', () => command('step'));
 document.getElementById('reset').addEventListener('click', () => command('reset'));
 document.getElementById('save').addEventListener('click', () => command('save', { file: 'edited_trajectory.yaml' }));
+// A SpaceMouse over WebHID (Chromium shows it as no gamepad): the browser asks which device.
+document.getElementById('spacemouse').hidden = !navigator.hid;
+document.getElementById('spacemouse').addEventListener('click', () => {
+  gamepad.connectSpaceMouse().then((ok) => hud.notice(ok ? '3-D mouse connected' : 'no 3-D mouse chosen'))
+    .catch((e) => hud.notice('3-D mouse: ' + e.message));
+});
 window.addEventListener('keydown', (e) => {
   if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
   if (e.key === 'v') resetView();
@@ -126,6 +135,7 @@ function onMessage(text) {
     state.role = m.role;
     hud.role(m.role);
     device.enabled = m.role === 'device';
+    gamepad.enabled = m.role === 'device';
   } else if (m.type === 'hello') {
     state.hello = m;
     state.helloCount++;
@@ -212,6 +222,8 @@ function animate(now) {
   }
   if (robot.meshesPending === 0 && robot.missingMeshes.length) hud.missingMeshes(robot.missingMeshes);
   device.flush();
+  gamepad.poll(now, controls.target);
+  if (gamepad.connected !== state.gamepad) { state.gamepad = gamepad.connected; hud.gamepad(gamepad.connected); }
   renderer.render(scene, camera);
   state.framesDrawn++;
   fpsCount++;
@@ -270,6 +282,8 @@ window.igms = {
   robot,
   contacts,
   device,
+  gamepad,
+  spaceMouseReport,
   camera,
   resetView,
   screenOf,

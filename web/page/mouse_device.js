@@ -27,6 +27,16 @@ export function wheelNotches(e) {
   return Math.sign(e.deltaY) * Math.max(1, Math.round(Math.abs(e.deltaY) / per));
 }
 
+// The rotation vector (axis times angle, world) of a turn, a quaternion.
+export function rotationVector(turn) {
+  const q = turn.clone();
+  if (q.w < 0) q.set(-q.x, -q.y, -q.z, -q.w);
+  const s = Math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+  if (s < 1e-12) return [0, 0, 0];
+  const angle = 2 * Math.atan2(s, q.w);
+  return [q.x / s * angle, q.y / s * angle, q.z / s * angle];
+}
+
 export class MouseDevice {
   constructor({ element, camera, controls, robot, send }) {
     this.element = element;
@@ -128,15 +138,8 @@ export class MouseDevice {
     this.drag.rotation.premultiply(q).normalize();
   }
 
-  // The rotation vector (axis times angle, world) of the grabbed frame's turn.
-  rotationVector() {
-    const q = this.drag.rotation.clone();
-    if (q.w < 0) q.set(-q.x, -q.y, -q.z, -q.w);
-    const s = Math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
-    if (s < 1e-12) return [0, 0, 0];
-    const angle = 2 * Math.atan2(s, q.w);
-    return [q.x / s * angle, q.y / s * angle, q.z / s * angle];
-  }
+  // The rotation vector of the grabbed frame's turn.
+  rotationVector() { return rotationVector(this.drag.rotation); }
 
   wheel(e) {
     if (!this.drag) return;

@@ -1,0 +1,161 @@
+#!/usr/bin/env bash
+# A lab's device as a plugin (<igms/device_plugin.h>). The example plugin
+# (examples/device_plugin/sim_device.c), built against the installed package
+# with find_package(igms), plays the paper's push: the targets come from a
+# scripted run (--export-targets), the server steps in lockstep. With a rigid
+# hand (the tip on its targets) nothing depends on timing, and the plugin is
+# held to the scripted device's outcome: the same interactions at the same
+# times, the largest force within 2 %. With the simulated hand, which feels the
+# force the client renders from its estimate (and so the reply timing), the
+# scripted device's own runs spread by 10 % in the largest force: the plugin
+# must give the same pushes and the wall at the same time. Then broken plugins: a missing file, a missing symbol, a wrong ABI
+# version and an open that fails each give one line and exit 2; a read that
+# blocks 5 ms every 50 cycles and one that gives NaN are counted (overruns,
+# failed calls, in the exit summary and on IGMS_DEVICE_STATUS), never a crash
+# or a hang.
+#   tests/integration/plugin_device_test.sh BUILD_DIR PORT
+set -euo pipefail
+build=$(cd "${1:?build dir}" && pwd)
+port=${2:?port}
+cd "$(dirname "$0")/../.."
+source scripts/lib/session.sh
+igms_in_netns "$0" "$@"
+export IGMS_BUILD=$build
+igms_build=$build
+work=$(mktemp -d /tmp/igms-plugin.XXXXXX)
+trap 'igms_stop_all; rm -rf "$work"' EXIT
+url="udpm://239.255.76.67:$port?ttl=0"
+scene=scenes/puma_obstacle.yaml
+fails=0
+check() {  # OK WHAT [DETAIL]
+  if [[ $1 == 1 ]]; then echo "ok    $2${3:+: $3}"; else echo "FAIL  $2${3:+: $3}"; fails=$((fails + 1)); fi
+}
+
+# The example plugin as a lab builds it: against the installed package.
+cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+check "$([[ -f $work/prefix/include/igms/device_plugin.h ]] && echo 1)" "the ABI header is installed" \
+  "include/igms/device_plugin.h"
+cmake -S examples/device_plugin -B "$work/plugin-build" -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/plugin.log" &&
+  cmake --build "$work/plugin-build" >> "$work/plugin.log" || { cat "$work/plugin.log"; exit 1; }
+plugin=$work/plugin-build/libigms_sim_device.so
+check "$([[ -f $plugin ]] && echo 1)" "the example plugin builds with find_package(igms)"
+
+run() {  # OUT_DIR DEVICE [client options]
+  local out=$1 device=$2
+  shift 2
+  mkdir -p "$out"
+  igms_start_logger "$out/session.lcmlog" "$url" -q --wait-session-s 5 \
+    -c 'IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS|DEVICE_STATUS|COMMAND)'
+  igms_start_server "$scene" "$url" --clock lockstep --quiet --output-dir "$out" 2> "$out/server.log"
+  igms_run_client "$scene" "$device" "$url" --duration 7 --connect-timeout 30 "$@" 2> "$out/client.log"
+  sleep 0.5
+  igms_stop_all
+  "$build/tools/igms-replay" export "$out/session.lcmlog" "$out/export" 2>/dev/null
+  /usr/bin/python3 scripts/session_summary.py "$out" "$(basename "$out")" > /dev/null
+}
+
+sed '/^hand:/d' scenes/paper_push.yaml > "$work/paper_push_rigid.yaml"
+run "$work/scripted" "scripted:$work/paper_push_rigid.yaml" --export-targets "$work/rigid.targets"
+run "$work/plugin" "plugin:$plugin:$work/rigid.targets"
+run "$work/scripted_hand" scripted:scenes/paper_push.yaml --export-targets "$work/hand.targets"
+run "$work/plugin_hand" "plugin:$plugin:$work/hand.targets"
+/usr/bin/python3 - "$work" <<'PY' || fails=$((fails + 1))
+import json, os, re, sys
+work = sys.argv[1]
+fails = 0
+def check(ok, what, detail=""):
+    global fails
+    print(("ok    " if ok else "FAIL  ") + what + (": " + detail if detail else ""))
+    fails += 0 if ok else 1
+def summary(d):
+    return json.load(open(os.path.join(work, d, "summary.json")))
+for scripted, plugin, tol, hand in (("scripted", "plugin", 0.02, "a rigid hand"), ("scripted_hand", "plugin_hand", 0.2, "the simulated hand")):
+    s, p = summary(scripted), summary(plugin)
+    check(len(s["interactions"]) == len(p["interactions"]) >= 2, hand + ": the same interactions (the paper's two pushes)",
+          "%d scripted, %d plugin" % (len(s["interactions"]), len(p["interactions"])))
+    for a, b in zip(s["interactions"], p["interactions"]):
+        check(a["mode"] == b["mode"] and abs(a["start_s"] - b["start_s"]) < 0.01 and abs(a["end_s"] - b["end_s"]) < 0.01,
+              hand + ": an interaction at the same times", "%s %.3f-%.3f s scripted, %s %.3f-%.3f s plugin" %
+              (a["mode"], a["start_s"], a["end_s"], b["mode"], b["start_s"], b["end_s"]))
+    fs, fp = s["max_force_on_robot_N"], p["max_force_on_robot_N"]
+    check(abs(fs - fp) <= tol * fs, hand + ": the largest force within %.0f %%" % (100 * tol),
+          "%.3f N scripted, %.3f N plugin" % (fs, fp))
+    check(s["collision_free"] and p["collision_free"] and s["reached_wall"] and p["reached_wall"] and
+          abs(s["reached_wall_s"] - p["reached_wall_s"]) < 0.02, hand + ": collision-free, the wall at the same time",
+          "%.3f s scripted, %.3f s plugin" % (s["reached_wall_s"], p["reached_wall_s"]))
+# The rigid hand's push saturates at the scene's 40 N bound: hold the whole force trace and the arm's path too.
+import csv
+def trace(d):
+    rows = list(csv.DictReader(open(os.path.join(work, d, "export", "states.csv"))))
+    ee = [h[:-2] for h in rows[0] if h.endswith(".x")][-1]
+    return {round(float(r["t"]), 4): (float(r["fx"]), float(r["fy"]), float(r["fz"]), float(r[ee + ".x"]),
+                                      float(r[ee + ".y"]), float(r[ee + ".z"])) for r in rows}
+a, b = trace("scripted"), trace("plugin")
+common = sorted(set(a) & set(b))
+df = max(max(abs(a[t][i] - b[t][i]) for i in range(3)) for t in common)
+dx = max(max(abs(a[t][i] - b[t][i]) for i in range(3, 6)) for t in common)
+check(len(common) > 6000 and df < 0.02 * 40 and dx < 1e-3, "a rigid hand: the same force at every step (within 2 % of "
+      "the 40 N bound) and the same path", "%d steps, force apart by at most %.3g N, the last link by %.3g m" % (len(common), df, dx))
+log = open(os.path.join(work, "plugin_hand", "client.log")).read()
+m = re.search(r"device read p50 (\S+) us, p99 (\S+) us, max (\S+) us; write .*; (\d+) overruns", log)
+check(m is not None and float(m.group(2)) < 100, "the plugin's calls are timed, p99 under 100 us", m.group(0) if m else log[-400:])
+check("device limits: force 3.30 N, step 1.00 N a cycle, stiffness 800 N/m" in log, "the plugin's limits are used and printed")
+sys.exit(1 if fails else 0)
+PY
+
+# Broken plugins: one line, exit 2, no hang.
+expect_error() {  # WHAT SPEC PATTERN
+  local code=0
+  timeout 20 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:$2" --lcm-url "$url" \
+    --connect-timeout 1 2> "$work/err.log" || code=$?
+  local line
+  line=$(head -1 "$work/err.log")
+  check "$([[ $code == 2 && $(wc -l < "$work/err.log") == 1 && $line =~ $3 ]] && echo 1)" "$1" "exit $code: $line"
+}
+expect_error "a missing library" "$work/none.so" "plugin:$work/none.so: cannot load it: .*No such file"
+expect_error "a missing symbol" "$build/tests/libbroken_device_no_symbol.so" \
+  "no symbol igms_device_write_torque \(see <igms/device_plugin.h>"
+expect_error "another ABI version" "$build/tests/libbroken_device_abi.so" "built for device plugin ABI 99, this igms-haptic speaks 1"
+expect_error "an open that fails" "$build/tests/libbroken_device_good.so:fail-open" \
+  "open failed: no device on /dev/ttyFAKE0 \(permission denied\)"
+expect_error "no path" "" "needs the library's path"
+
+# A read that blocks 5 ms every 50 cycles, and one that gives NaN: counted, the client runs on.
+mkdir -p "$work/slow"
+igms_start_logger "$work/slow/status.lcmlog" "$url" -q -c 'IGMS_DEVICE_STATUS'
+igms_start_server "$scene" "$url" --quiet 2> "$work/slow/server.log"
+code=0
+timeout 30 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:$build/tests/libbroken_device_good.so:block-ms=5,every=50" \
+  --lcm-url "$url" --duration 3 --connect-timeout 10 2> "$work/slow/client.log" || code=$?
+timeout 30 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:$build/tests/libbroken_device_good.so:nan-every=10" \
+  --lcm-url "$url" --duration 1 --connect-timeout 10 2> "$work/slow/nan.log" || code=$((code + $?))
+sleep 0.3
+igms_stop_all
+check "$([[ $code == 0 ]] && echo 1)" "the client ran both faulty plugins to the end" "exit $code"
+line=$(grep "device read" "$work/slow/client.log" || true)
+overruns=$(sed -n 's/.* \([0-9]*\) overruns.*/\1/p' <<< "$line")
+readmax=$(sed -n 's/.*device read p50 [^,]*, p99 [^,]*, max \([0-9.]*\) us.*/\1/p' <<< "$line")
+check "$([[ ${overruns:-0} -ge 40 && ${overruns:-0} -le 80 && ${readmax%.*} -ge 5000 ]] && echo 1)" \
+  "a read blocking 5 ms every 50 cycles: counted overruns, its max in the summary" "$line"
+check "$(grep -q 'stiffness 500 N/m' "$work/slow/client.log" && grep -q 'force 3.30 N' "$work/slow/client.log" && echo 1)" \
+  "a NaN limit keeps the default, a good one is used" "$(grep 'device limits' "$work/slow/client.log" || true)"
+nan=$(grep "device read" "$work/slow/nan.log" | sed -n 's/.* \([0-9]*\) failed calls.*/\1/p')
+check "$([[ ${nan:-0} -ge 90 && ${nan:-0} -le 110 ]] && echo 1)" "a NaN reading every 10 cycles: counted as failed, the last good one stands" \
+  "${nan:-none} failed calls in 1 s"
+PYTHONPATH="$PWD/python:$build/python" "$(scripts/python_env.sh)" - "$work/slow/status.lcmlog" <<'PY' || fails=$((fails + 1))
+import sys
+import lcm
+from igms import device_status_t
+worst, n = 0, 0
+for e in lcm.EventLog(sys.argv[1], "r"):
+    if e.channel != "IGMS_DEVICE_STATUS":
+        continue
+    d = device_status_t.decode(e.data)
+    n += 1
+    worst = max(worst, d.overruns)
+ok = n >= 2 and worst >= 40
+print(("ok    " if ok else "FAIL  ") + "IGMS_DEVICE_STATUS carries the overruns: %d statuses, %d overruns" % (n, worst))
+sys.exit(0 if ok else 1)
+PY
+echo "plugin_device_test: $fails failed"
+[[ $fails == 0 ]]
