@@ -96,6 +96,10 @@ def main():
     p.add_argument("--duration", type=float, default=0.0, help="seconds (0: until the targets end, plus 1 s)")
     p.add_argument("--key-file", default=os.environ.get("IGMS_KEY_FILE", ""), help="the bus key (IGMS_KEY_FILE)")
     p.add_argument("--max-force", type=float, default=3.3, help="N the device renders (sent with each reading)")
+    p.add_argument("--max-stiffness", type=float, default=1e9,
+                   help="N/m the device renders stably (a real device's, e.g. an Omni's 800; a stiffer coupling is "
+                        "felt scaled down to it). The default, 1e9, is no limit: this hand is simulated, as the "
+                        "scripted device's")
     p.add_argument("--stats", help="write the rate and latency figures here (JSON)")
     p.add_argument("--warm-up", type=float, default=1.0, help="s at the start left out of the latency figures")
     a = p.parse_args()
@@ -146,6 +150,7 @@ def main():
     msg = device_reading_t()
     msg.orientation = [1.0, 0.0, 0.0, 0.0]
     msg.max_force = a.max_force
+    msg.max_stiffness = a.max_stiffness
     period = 1.0 / a.rate
     start = time.perf_counter()
     seq, last = 0, 0.0

@@ -78,7 +78,9 @@ igms_device* igms_device_open(const char* args, char* error, int error_size) {
 void igms_device_get_limits(igms_device* d, igms_device_limits* l) {
   (void)d;
   memset(l, 0, sizeof *l); /* 0: igms keeps its defaults */
-  l->max_force = 3.3, l->max_force_step = 1.0, l->max_stiffness = 800.0;
+  /* A real device gives its own (an Omni: 3.3 N, 800 N/m). This one is a simulated hand, as the
+   * scripted device's: no stiffness limit, so it feels what the scripted device's hand feels. */
+  l->max_force = 3.3, l->max_force_step = 1.0, l->max_stiffness = INFINITY;
 }
 
 /* The scripted device's target: a smooth step between the targets around t. */

@@ -1,6 +1,7 @@
 #include "haptic_client/app/haptic_client.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <thread>
@@ -12,6 +13,7 @@
 #include "haptic_client/device/device_registry.h"
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/client_bus.h"
+#include "haptic_client/servo/client_interaction.h"
 #include "haptic_client/servo/client_status_thread.h"
 #include "haptic_client/servo/servo_loop.h"
 
@@ -78,20 +80,22 @@ void printSummary(const ServoStats& s, double wall) {
 }
 
 // What the client renders to: the device's limits (or igms's defaults for a device that gives none),
-// and the stiffness the scene's springs have at the device (a device's metre is `scale` scene metres).
+// and the share of the coupling's force the hand feels when the scene's springs, at the device,
+// are stiffer than it renders stably.
 void printLimits(const DeviceLimits& l, const Scene& scene) {
+  char stiffness[32] = "unlimited (a simulated device)";
+  if (std::isfinite(l.max_stiffness)) std::snprintf(stiffness, sizeof stiffness, "%.0f N/m", l.max_stiffness);
   std::fprintf(stderr,
-               "igms-haptic: device limits: force %.2f N, step %.2f N a cycle, stiffness %.0f N/m, torque %.2f N m, "
+               "igms-haptic: device limits: force %.2f N, step %.2f N a cycle, stiffness %s, torque %.2f N m, "
                "workspace [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m\n",
-               l.max_force, l.max_force_step, l.max_stiffness, l.max_torque, l.workspace_min.x(), l.workspace_min.y(),
+               l.max_force, l.max_force_step, stiffness, l.max_torque, l.workspace_min.x(), l.workspace_min.y(),
                l.workspace_min.z(), l.workspace_max.x(), l.workspace_max.y(), l.workspace_max.z());
-  const double push = scene.push.k_p * scene.workspace_scale, pull = scene.pull.k * scene.workspace_scale;
-  if (std::max(push, pull) > l.max_stiffness)
+  const double coupling = couplingStiffness(scene), share = stiffnessScale(l.max_stiffness, coupling);
+  if (share < 1.0)
     std::fprintf(stderr,
-                 "igms-haptic: at the device the push is %.0f N/m and the pull %.0f N/m (k x workspace scale %.3g), "
-                 "over its stable %.0f N/m: the force is clamped and slew-limited and the passivity controller damps "
-                 "it, but not scaled down\n",
-                 push, pull, scene.workspace_scale, l.max_stiffness);
+                 "igms-haptic: coupling: the scene's springs are %.0f N/m at the device (k x workspace scale %.3g), over "
+                 "its stable %.0f N/m: the hand feels %.3g of the force, the robot all of it\n",
+                 coupling, scene.workspace_scale, l.max_stiffness, share);
 }
 
 // The device's own calls as the loop timed them, and what it reported failed.

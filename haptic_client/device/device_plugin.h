@@ -32,7 +32,8 @@ typedef struct igms_device igms_device; /* the plugin's own state, opaque to igm
 typedef struct {
   double max_force;        /* N the device renders continuously */
   double max_force_step;   /* N the rendered force may change in one cycle */
-  double max_stiffness;    /* N/m the device renders stably (K < 2b/T) */
+  double max_stiffness;    /* N/m the device renders stably (K < 2b/T); a stiffer coupling is felt
+                              scaled down to it. INFINITY: a simulated device, no limit */
   double max_torque;       /* N m (0: a 3-dof device) */
   double max_torque_step;  /* N m per cycle */
   double workspace_min[3]; /* m, device frame */

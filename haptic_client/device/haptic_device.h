@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "core/model/spatial.h"
@@ -14,12 +15,22 @@ namespace igms {
 struct DeviceLimits {
   double max_force = 3.3;          // N (a PHANToM Omni's peak)
   double max_force_step = 1.0;     // N per servo cycle: the most the rendered force may change in one
-  double max_stiffness = 800.0;    // N/m the device can render stably
+  // N/m the device renders stably (K < 2b/T); a stiffer coupling is felt scaled down to it.
+  // Infinity: a simulated device (scripted, replayed, the browser's mouse), no limit.
+  double max_stiffness = 800.0;
   double max_torque = 0.0;         // N m (0: a 3-dof device renders no torque)
   double max_torque_step = 0.02;   // N m per servo cycle
   Vector3 workspace_min = Vector3(-0.08, -0.06, -0.035);  // m, device frame
   Vector3 workspace_max = Vector3(0.08, 0.06, 0.035);
 };
+
+// A device that renders to no hand (scripted, replayed, the browser's mouse): igms's defaults,
+// with no stiffness limit, so the hand (a simulated one) feels the whole coupling.
+inline DeviceLimits simulatedDeviceLimits() {
+  DeviceLimits l;
+  l.max_stiffness = std::numeric_limits<double>::infinity();
+  return l;
+}
 
 struct DeviceReading {
   Vector3 position = Vector3::Zero();  // tip, device frame, m

@@ -61,7 +61,8 @@ PluginDevice::PluginDevice(const std::string& spec) {
   };
   take(l.max_force, &limits_.max_force);
   take(l.max_force_step, &limits_.max_force_step);
-  take(l.max_stiffness, &limits_.max_stiffness);
+  if (std::isinf(l.max_stiffness) && l.max_stiffness > 0) limits_.max_stiffness = l.max_stiffness;  // a simulated device
+  else take(l.max_stiffness, &limits_.max_stiffness);
   if (std::isfinite(l.max_torque) && l.max_torque >= 0) limits_.max_torque = l.max_torque;
   take(l.max_torque_step, &limits_.max_torque_step);
   if (finite3(l.workspace_min) && finite3(l.workspace_max) && l.workspace_max[0] > l.workspace_min[0] &&

@@ -37,7 +37,7 @@ class ReplayDevice : public HapticDevice {
   WorkspaceMap map_;
   std::vector<Sample> samples_;
   size_t cursor_ = 0;
-  DeviceLimits limits_;
+  DeviceLimits limits_ = simulatedDeviceLimits();
 };
 
 }  // namespace igms

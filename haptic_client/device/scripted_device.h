@@ -87,7 +87,7 @@ class ScriptedDevice : public HapticDevice {
   };
   std::vector<ButtonEvent> buttons_;
   double end_ = 0.0;
-  DeviceLimits limits_;
+  DeviceLimits limits_ = simulatedDeviceLimits();
   Vector3 force_ = Vector3::Zero(), torque_ = Vector3::Zero();
   bool has_orientation_ = false;
   Eigen::Quaterniond last_orientation_ = Eigen::Quaterniond::Identity();

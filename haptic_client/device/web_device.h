@@ -47,7 +47,7 @@ class WebDevice : public HapticDevice {
  private:
   class Page;
   std::string name_;
-  DeviceLimits limits_;
+  DeviceLimits limits_ = simulatedDeviceLimits();
   WorkspaceMap map_;
   LatestValue<Target> target_;
   // Servo-thread state.

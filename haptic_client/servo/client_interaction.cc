@@ -135,7 +135,8 @@ Vector3 ClientInteraction::render(const Vector3& on_user, const Vector3& tip_vel
                                   bool resynced_after_gap, double period, const RenderLimits& limits) {
   if (resynced_after_gap) blend_.resync(10);  // back after a gap: 10 ms to the new force
   const double scale = ramp_.update(lost, period);
-  Vector3 rendered = clampMagnitude(blend_.apply(guard_.apply(on_user) * scale, last_force_), limits.max_force);
+  Vector3 rendered = clampMagnitude(blend_.apply(guard_.apply(on_user * limits.stiffness_scale) * scale, last_force_),
+                                    limits.max_force);
   if (limits.passivity) {  // on the force the device can render, so the balance is what the hand gets
     passivity_.setTolerance(limits.passivity_tolerance);
     rendered = clampMagnitude(passivity_.apply(rendered, tip_velocity, period), limits.max_force);

@@ -14,6 +14,13 @@
 
 namespace igms {
 
+// The stiffest spring between the hand and the scene, as the device feels it, N/m: the push's
+// k_p or the pull's k (those enabled) times the workspace scale.
+inline double couplingStiffness(const Scene& scene) {
+  const double k = std::max(scene.push.enabled ? scene.push.k_p : 0.0, scene.pull.enabled ? scene.pull.k : 0.0);
+  return k * scene.workspace_scale;
+}
+
 class ClientInteraction {
  public:
   explicit ClientInteraction(const ResolvedScene& resolved);

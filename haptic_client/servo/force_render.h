@@ -9,7 +9,8 @@
 //  - PassivityController: the time-domain passivity observer and controller
 //    at the device port, so that no delay, prediction or re-basing hands the
 //    user energy the user did not put in.
-//  - The device's limits clamp the force; then the per-cycle bound.
+//  - The device's stable stiffness scales what the hand feels (stiffnessScale);
+//    its limits clamp the force; then the per-cycle bound.
 #pragma once
 
 #include <algorithm>
@@ -115,7 +116,19 @@ struct RenderLimits {
   double max_step = 1e9;
   bool passivity = false;  // false: the observer still sums E, the controller does nothing
   double passivity_tolerance = 0.025;  // J
+  // The hand feels this share of the coupling's force (stiffnessScale); the robot gets all of it.
+  double stiffness_scale = 1.0;
 };
+
+// The share of the coupling's force a device can render stably: a spring of `coupling` N/m at
+// the device (the scene's stiffest spring times the workspace scale: a device's metre is that
+// many scene metres) above the device's stable stiffness is felt scaled down to it, as CHAI3D
+// caps a tool's stiffness at the device's. An unlimited device (infinity: a simulated one) feels it all.
+inline double stiffnessScale(double device_stiffness, double coupling) {
+  return std::isfinite(device_stiffness) && device_stiffness > 0 && coupling > device_stiffness
+             ? device_stiffness / coupling
+             : 1.0;
+}
 
 inline Vector3 clampMagnitude(const Vector3& f, double max) {
   const double n = f.norm();

@@ -13,7 +13,8 @@ ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus
                      std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config)
     : config_(config), period_(1.0 / config.rate_hz), sim_dt_(scene.scene.dt),
       render_limits_{device.limits().max_force, device.limits().max_force_step, config.passivity,
-                     config.passivity_tolerance},
+                     config.passivity_tolerance,
+                     stiffnessScale(device.limits().max_stiffness, couplingStiffness(scene.scene))},
       device_limits_(device.limits()), map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device),
       bus_(bus), estimate_(estimate), links_(links), stats_(stats), interaction_(scene) {
   msg_.client_id = config.client_id;

@@ -34,7 +34,7 @@ run() {  # OUT_DIR with_bad_readings [quiet: no logger, for the latency alone]
     -c 'IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS|DEVICE_STATUS)'
   igms_start_server "$scene" "$url" --clock lockstep --quiet 2> "$out/server.log"
   "$python" examples/python_device.py --targets examples/device_plugin/paper_push.targets --lcm-url "$url" \
-    --duration 4 --stats "$out/device.json" 2> "$out/device.log" &
+    --duration 4 --stats "$out/device.json" ${device_options:-} 2> "$out/device.log" &
   igms_pids+=($!)
   if [[ $bad == 1 ]]; then
     "$python" tests/support/bad_device_readings.py "$url" "$IGMS_KEY_FILE" 4 "$out/bad.json" &
@@ -48,7 +48,7 @@ run() {  # OUT_DIR with_bad_readings [quiet: no logger, for the latency alone]
   /usr/bin/python3 scripts/session_summary.py "$out" "$(basename "$out")" > /dev/null
 }
 
-run "$work/quiet" 0 1
+device_options="--max-stiffness 800" run "$work/quiet" 0 1  # an Omni's: the coupling is felt scaled
 run "$work/alone" 0
 run "$work/bad" 1
 "$python" - "$work" <<'PY'
@@ -77,6 +77,10 @@ check(dev["added_us_p50"] <= 1500, "quiet: the bus adds under 1.5 ms at p50", "%
 check(dev["added_us_p99"] <= 10000, "quiet: the bus adds under 10 ms at p99 (the goal, 2 ms: %s)" %
       ("yes" if dev["added_us_p99"] <= 2000 else "NO"), "%.0f us" % dev["added_us_p99"])
 check(dev["rate_hz"] >= 250, "quiet: the Python device at its own rate", "%.1f Hz" % dev["rate_hz"])
+quiet_log = open(os.path.join(work, "quiet", "client.log")).read()
+check("coupling: the scene's springs are 8000 N/m at the device (k x workspace scale 4), over its stable 800 N/m: "
+      "the hand feels 0.1 of the force" in quiet_log, "quiet: a device of 800 N/m feels the coupling scaled to it",
+      next((l for l in quiet_log.splitlines() if "coupling" in l), "no coupling line"))
 
 for run in ("alone", "bad"):
     d = os.path.join(work, run)
@@ -91,6 +95,8 @@ for run in ("alone", "bad"):
           "%.1f Hz, %d forces" % (dev["rate_hz"], dev["forces"]))
     check(sum(dev["refused"].values()) == 0, run + ": the device refused none of the client's forces", json.dumps(dev["refused"]))
     check("device lost (its readings stopped): forces ramping down" in log, run + ": the device's end is a lost device")
+    check("stiffness 1000000000 N/m" in log and "coupling:" not in log,
+          run + ": the simulated hand gives no real stiffness limit and feels the whole coupling")
     last = igmslog.read(os.path.join(d, "session.lcmlog")).client_status[-1]
     check(last.force_scale == 0.0 and max(abs(f) for f in last.rendered_force) == 0.0,
           run + ": its force ramped out", "scale %.2f, force %s" % (last.force_scale, list(last.rendered_force)))

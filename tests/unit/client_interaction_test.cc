@@ -5,6 +5,8 @@
 // then starts at the surface. A tip that was never pulling pushes at the first touch.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "core/geometry/deepest_contact.h"
 #include "core/simulation/simulation.h"
 #include "haptic_client/servo/client_interaction.h"
@@ -121,6 +123,24 @@ TEST(SixDofPull, TheGrabIsRelaxedAndATurnGivesTheServersTorque) {
   c3.setOrientation(true, q0, Vector3::Zero());
   c3.fillInput(x, Vector3::Zero(), 1, msg);
   EXPECT_FALSE(msg.has_orientation);
+}
+
+// A device's stable stiffness (DeviceLimits::max_stiffness) scales what the hand feels: the
+// paper's scene is max(k_p 2000, k 800) N/m x workspace scale 4 = 8000 N/m at the device.
+TEST(DeviceStiffness, ScalesTheForceTheHandFeelsNotTheRobots) {
+  Bench b;
+  EXPECT_DOUBLE_EQ(couplingStiffness(b.scene.scene), 8000.0);
+  EXPECT_DOUBLE_EQ(stiffnessScale(800.0, 8000.0), 0.1);
+  EXPECT_DOUBLE_EQ(stiffnessScale(800.0, 500.0), 1.0) << "a softer coupling is felt whole";
+  EXPECT_DOUBLE_EQ(stiffnessScale(std::numeric_limits<double>::infinity(), 8000.0), 1.0) << "a simulated device";
+  for (const double share : {1.0, 0.25, 0.1}) {
+    ClientInteraction c(b.scene);
+    const RenderLimits limits{30.0, 1.0, false, 0.025, share};
+    c.render(Vector3::Zero(), Vector3::Zero(), false, false, 0.001, limits);  // arms the start-up guard
+    Vector3 rendered = Vector3::Zero();
+    for (int k = 0; k < 100; ++k) rendered = c.render(Vector3(0, 0, 8.0), Vector3::Zero(), false, false, 0.001, limits);
+    EXPECT_NEAR(rendered.z(), 8.0 * share, 1e-9) << share;
+  }
 }
 
 }  // namespace
