@@ -103,10 +103,10 @@ void printDeviceSummary(const ServoStats& s, const HapticDevice& device) {
   std::fprintf(stderr,
                "igms-haptic: device read p50 %s us, p99 %s us, max %.0f us; write p50 %s us, p99 %s us, max %.0f us; "
                "%lld overruns (calls over %.0f us), %lld failed calls",
-               quantileText(s.device_read_all, 0.5).c_str(), quantileText(s.device_read_all, 0.99).c_str(),
-               s.device_read_all.max(), quantileText(s.device_write_all, 0.5).c_str(),
-               quantileText(s.device_write_all, 0.99).c_str(), s.device_write_all.max(),
-               static_cast<long long>(s.device_overruns.load()), ServoStats::kDeviceOverrunUs,
+               quantileText(s.device_read.all, 0.5).c_str(), quantileText(s.device_read.all, 0.99).c_str(),
+               s.device_read.all.max(), quantileText(s.device_write.all, 0.5).c_str(),
+               quantileText(s.device_write.all, 0.99).c_str(), s.device_write.all.max(),
+               static_cast<long long>(s.device_read.overruns + s.device_write.overruns), DeviceCallTimes::kOverrunUs,
                static_cast<long long>(device.failedCalls()));
   if (device.readingsRejected() > 0)
     std::fprintf(stderr, ", %lld readings rejected", static_cast<long long>(device.readingsRejected()));

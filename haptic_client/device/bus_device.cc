@@ -1,5 +1,6 @@
 #include "haptic_client/device/bus_device.h"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>

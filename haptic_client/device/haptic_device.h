@@ -42,10 +42,10 @@ struct DeviceReading {
   // Pull from this link point instead of the scene's (-1: the scene's pull
   // link and point). A device that can pick a link (the browser) sets it.
   int attach_frame = -1;
+  Vector3 attach_point = Vector3::Zero();  // in the link frame, m
   // A device whose readings stopped coming (a bus device): the loop ramps the force out and lets go,
   // as for a lost server, and back when readings return.
   bool device_lost = false;
-  Vector3 attach_point = Vector3::Zero();  // in the link frame, m
 };
 
 class HapticDevice {

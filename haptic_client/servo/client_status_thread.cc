@@ -36,7 +36,7 @@ void ClientStatusThread::run() {
       else
         std::fprintf(stderr, "igms-haptic: server back: forces ramping up\n");
     }
-    if (stats_.device_lost != device_was_lost) {
+    if (stats_.device_lost != device_was_lost) {  // a bus device's readings stopped, or came back
       device_was_lost = stats_.device_lost;
       std::fprintf(stderr, device_was_lost ? "igms-haptic: device lost (its readings stopped): forces ramping down\n"
                                            : "igms-haptic: device back: forces ramping up\n");
@@ -94,12 +94,12 @@ void ClientStatusThread::publishDeviceStatus(int64_t utime) {
   d.utime = utime;
   d.client_id = who_.client_id;
   d.device = who_.device;
-  const auto r = stats_.device_read_us.drain(), w = stats_.device_write_us.drain();
+  const auto r = stats_.device_read.recent.drain(), w = stats_.device_write.recent.drain();
   d.read_us_p50 = r[0]; d.read_us_p99 = r[1]; d.read_us_max = r[2];
   d.write_us_p50 = w[0]; d.write_us_p99 = w[1]; d.write_us_max = w[2];
-  d.read_us_max_all = stats_.device_read_max;
-  d.write_us_max_all = stats_.device_write_max;
-  d.overruns = stats_.device_overruns;
+  d.read_us_max_all = stats_.device_read.max;
+  d.write_us_max_all = stats_.device_write.max;
+  d.overruns = stats_.device_read.overruns + stats_.device_write.overruns;
   d.failed_calls = device_.failedCalls();
   d.readings_rejected = device_.readingsRejected();
   d.reading_age_ms = device_.readingAgeMs();

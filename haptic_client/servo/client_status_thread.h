@@ -2,7 +2,7 @@
 // the client status at 10 Hz from the servo loop's figures, and the device's
 // (device_status_t) and the bus's (bus_status_t) once a second. Also the one
 // place the client speaks on the console during the run ("server lost",
-// "server back"): never the servo loop.
+// "server back", "device lost"): never the servo loop.
 #pragma once
 
 #include <atomic>

@@ -57,20 +57,12 @@ double ServoLoop::run(const std::atomic<bool>& stop) {
   return monotonicSeconds() - start;
 }
 
-void ServoLoop::timeDeviceCall(double us, SampleRing& window, Histogram& all, std::atomic<double>& max) {
-  window.push(us);
-  all.add(us);
-  if (us > max.load(std::memory_order_relaxed)) max.store(us, std::memory_order_relaxed);
-  if (us > ServoStats::kDeviceOverrunUs) ++stats_.device_overruns;
-}
-
 void ServoLoop::cycle(int64_t k, double nominal_start) {
   // 1. The device, mapped into the scene.
   const double t = static_cast<double>(k - 1) * period_;
   const double read_start = monotonicSeconds();
   const DeviceReading reading = device_.read(t);
-  timeDeviceCall((monotonicSeconds() - read_start) * 1e6, stats_.device_read_us, stats_.device_read_all,
-                 stats_.device_read_max);
+  stats_.device_read.add((monotonicSeconds() - read_start) * 1e6);
   const Vector3 tip = map_.toScene(reading.position);
   const Vector3 tip_velocity = map_.scale * reading.velocity;
   // 2. The input: pull while the button is held, push when the tip touches a link.
@@ -196,8 +188,7 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   const double write_start = monotonicSeconds();
   device_.write(rendered);  // scene axes = device axes (the mapping scales positions only)
   if (device_limits_.max_torque > 0.0) device_.writeTorque(torque);
-  timeDeviceCall((monotonicSeconds() - write_start) * 1e6, stats_.device_write_us, stats_.device_write_all,
-                 stats_.device_write_max);
+  stats_.device_write.add((monotonicSeconds() - write_start) * 1e6);
   for (int i = 0; i < 3; ++i) stats_.torque[i] = torque[i];
   stats_.max_force_step = interaction_.maxForceStep();
   stats_.slew_limited = interaction_.slewLimited();

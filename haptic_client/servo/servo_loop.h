@@ -52,8 +52,6 @@ class ServoLoop {
 
  private:
   void cycle(int64_t k, double nominal_start);
-  // One device call's duration: the window, the run's histogram and maximum, an overrun past 100 us.
-  void timeDeviceCall(double us, SampleRing& window, Histogram& all, std::atomic<double>& max);
   bool awaitState(int64_t k, double nominal_start);
   void take(const ReceivedState& r);
   void render(int64_t k, const Vector3& tip, const Vector3& tip_velocity, bool on_time, bool device_lost);

@@ -88,6 +88,22 @@ inline std::string quantileText(const Histogram& h, double p, double scale = 1.0
   return out;
 }
 
+// One kind of device call (read or write), timed by the servo loop: the last status period's
+// samples, the whole run's distribution, and its maximum where the status thread may read it.
+struct DeviceCallTimes {
+  static constexpr double kOverrunUs = 100.0;  // a call longer than this is an overrun
+  SampleRing recent;
+  Histogram all;
+  std::atomic<double> max{0};
+  std::atomic<int64_t> overruns{0};
+  void add(double us) {
+    recent.push(us);
+    all.add(us);
+    if (us > max.load(std::memory_order_relaxed)) max.store(us, std::memory_order_relaxed);
+    if (us > kOverrunUs) overruns.fetch_add(1, std::memory_order_relaxed);
+  }
+};
+
 struct ServoStats {
   std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0}, slew_limited{0},
       passivity_acted{0}, late_cycles{0}, skipped_periods{0};
@@ -103,11 +119,7 @@ struct ServoStats {
   Histogram jitter_all;
   Histogram age_all{10.0};  // 10 us bins: state ages up to 200 ms
   // The device's own calls, timed by the loop around read and write (a plugin's must not block).
-  static constexpr double kDeviceOverrunUs = 100.0;
-  SampleRing device_read_us, device_write_us;
-  Histogram device_read_all, device_write_all;
-  std::atomic<double> device_read_max{0}, device_write_max{0};
-  std::atomic<int64_t> device_overruns{0};
+  DeviceCallTimes device_read, device_write;
 };
 
 }  // namespace igms
