@@ -5,9 +5,10 @@ namespace igms {
 const Vector3& MouseFollower::update(const Target& target, double dt, const Vector3& rendered) {
   Vector3 goal = target.tip;
   if (target.active) {
-    if (target.seq != last_seq_ && target.jump) {
-      x_ = retract_ = target.tip;
+    if (target.drag_seq != last_drag_seq_) {
+      x_ = retract_ = target.drag_start;
       v_.setZero();
+      last_drag_seq_ = target.drag_seq;
     }
     // A released pull needs no way out: the client blends the spring off.
     backing_out_ = !target.pull;
@@ -35,7 +36,6 @@ const Vector3& MouseFollower::update(const Target& target, double dt, const Vect
     if (speed > kMaxSpeed) v_ *= kMaxSpeed / speed;
     x_ += v_ * dt;
   }
-  last_seq_ = target.seq;
   was_active_ = target.active;
   parked_now_ = !target.active && !backing_out_;
   return x_;

@@ -21,7 +21,10 @@ class MouseFollower {
     Vector3 tip = Vector3::Zero();
     bool active = false;  // a drag is on (false: back out if pushing, then park)
     bool pull = false;    // the modifier-drag: the spring of eq. 4
-    bool jump = false;    // the start of a drag: the tip moves there at once
+    // The drag's start (the page's "jump" message): the tip moves there at once. Kept in every later
+    // target of the drag, so a busy machine that hands the loop only the newest target loses no start.
+    int64_t drag_seq = 0;  // the seq of the jump that started this drag
+    Vector3 drag_start = Vector3::Zero();
     int attach_frame = -1;
     Vector3 attach_point = Vector3::Zero();
     Vector3 rotation = Vector3::Zero();  // pull: the grabbed frame's turn since the grab (rotation vector, world)
@@ -50,7 +53,7 @@ class MouseFollower {
   Vector3 retract_;  // where the drag began
   Vector3 exit_;     // a released push backs out toward this
   bool backing_out_ = false, was_active_ = false, parked_now_ = true;
-  int64_t last_seq_ = -1;
+  int64_t last_drag_seq_ = 0;
 };
 
 }  // namespace igms

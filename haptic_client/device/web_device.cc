@@ -75,7 +75,8 @@ class WebDevice::Page {
     t.seq = m["seq"].get<int64_t>();
     if (t.seq <= last_seq_) return PageMessage::Malformed;  // stale or replayed
     if (!vector3(m, "tip", 50.0, &t.tip)) return PageMessage::Malformed;
-    if (!flag(m, "active", &t.active) || !flag(m, "pull", &t.pull) || !flag(m, "jump", &t.jump))
+    bool jump = false;
+    if (!flag(m, "active", &t.active) || !flag(m, "pull", &t.pull) || !flag(m, "jump", &jump))
       return PageMessage::Malformed;
     if (t.pull) {
       if (!m.contains("attach_link") || !m["attach_link"].is_string()) return PageMessage::Malformed;
@@ -85,6 +86,12 @@ class WebDevice::Page {
       if (m.contains("rotation") && !vector3(m, "rotation", M_PI + 1e-9, &t.rotation)) return PageMessage::Malformed;
     }
     last_seq_ = t.seq;
+    if (jump) {
+      drag_seq_ = t.seq;
+      drag_start_ = t.tip;
+    }
+    t.drag_seq = drag_seq_;  // the servo loop reads only the newest target: each carries its drag's start
+    t.drag_start = drag_start_;
     device_.target_.write(t);
     ++targets_;
     return PageMessage::Handled;
@@ -143,6 +150,8 @@ class WebDevice::Page {
   web::ViewService view_;
   web::BusFeed feed_;
   int64_t last_seq_ = 0;  // the web server's thread only
+  int64_t drag_seq_ = 0;
+  Vector3 drag_start_ = Vector3::Zero();
   int64_t command_seq_ = 0;
   std::atomic<int64_t> targets_{0}, commands_{0};
 };
