@@ -17,6 +17,8 @@ inline constexpr const char* kServerStatus = "IGMS_SERVER_STATUS";     // server
 inline constexpr const char* kEditedTrajectory = "IGMS_TRAJECTORY_EDITED";  // trajectory_t
 inline constexpr const char* kClientStatus = "IGMS_CLIENT_STATUS";     // client_status_t
 inline constexpr const char* kSessionInfo = "IGMS_SESSION_INFO";       // session_info_t
+// With each session info: every robot's model and trajectory file, every mesh's hash.
+inline constexpr const char* kSessionFiles = "IGMS_SESSION_FILES";     // session_files_t
 inline constexpr const char* kHeartbeat = "IGMS_HEARTBEAT";            // heartbeat_t
 // Scenes with contact: points, normals and forces, at most --contact-rate Hz.
 inline constexpr const char* kContacts = "IGMS_CONTACTS";              // contacts_t

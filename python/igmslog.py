@@ -3,6 +3,8 @@
     import igmslog
     log = igmslog.read("session.lcmlog")      # also .lcmlog.gz
     log.info.scene_path, log.info.clock       # session_info_t (the first one)
+    log.files.robots[k].model_path            # session_files_t: every robot's files (None in older logs)
+    igmslog.model_texts(log)                  # {robot: its model file's text}, from the log alone
     log.states["t"], log.states["q"]          # (N,) simulated time, (N, nq)
     log.inputs["tip_position"]                # (M, 3) haptic inputs, by arrival
     log.hands["client"], log.hands["force"]   # (H,), (H, 3): one row per hand per state (several people at once)
@@ -20,16 +22,18 @@ import gzip
 import os
 import shutil
 import tempfile
+import zlib
 
 import lcm
 import numpy as np
 
 from igms import (client_status_t, contacts_t, haptic_input_t, robot_state_t, server_status_t,
-                  session_info_t)
+                  session_files_t, session_info_t)
 
 STATE_CHANNELS = ("IGMS_ROBOT_STATE", "IGMS_ROBOT_STATE_TRUTH")
 TYPES = {
     "IGMS_SESSION_INFO": session_info_t,
+    "IGMS_SESSION_FILES": session_files_t,
     "IGMS_ROBOT_STATE": robot_state_t,
     "IGMS_ROBOT_STATE_TRUTH": robot_state_t,
     "IGMS_HAPTIC_INPUT": haptic_input_t,
@@ -42,6 +46,7 @@ TYPES = {
 class SessionLog:
     def __init__(self):
         self.info = None
+        self.files = None
         self.counts = collections.Counter()
         self.undecodable = collections.Counter()
         self.server_status = []
@@ -99,6 +104,8 @@ def read(path):
             raw[channel].append(m)
     if raw["IGMS_SESSION_INFO"]:
         out.info = raw["IGMS_SESSION_INFO"][0]
+        # The files that go with that session info (the same token).
+        out.files = next((f for f in raw["IGMS_SESSION_FILES"] if f.session_token == out.info.session_token), None)
     out.server_status = raw["IGMS_SERVER_STATUS"]
     out.client_status = raw["IGMS_CLIENT_STATUS"]
     # The truth channel holds every step in a fault-injected session.
@@ -126,6 +133,17 @@ def read(path):
     if inputs:
         out.inputs = _columns(inputs, ("seq", "utime", "mode", "client_id", "tip_position"))
     return out
+
+
+def model_texts(log):
+    """{robot name: its model file's text} from the log alone: every robot's from the session files,
+    else (an older log) the first robot's from the session info, under ""."""
+    if log.files is not None:
+        return {r.robot: zlib.decompress(bytes(r.model_zlib)).decode() for r in log.files.robots
+                if r.model_size > 0}
+    if log.info is not None and log.info.model_size > 0:
+        return {"": zlib.decompress(bytes(log.info.model_zlib)).decode()}
+    return {}
 
 
 def link_names(log):

@@ -19,7 +19,7 @@ accept=${1:-}
 out=out/replay_suite
 mkdir -p "$out"
 url="udpm://239.255.76.67:7795?ttl=0"
-channels='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|ROBOT_STATE_TRUTH)'
+channels='IGMS_(SESSION_INFO|SESSION_FILES|HAPTIC_INPUT|ROBOT_STATE|ROBOT_STATE_TRUTH)'
 
 record() {  # name script[+second_script] [server options...]
   local name=$1 script=${2%%+*} second=""
@@ -28,7 +28,7 @@ record() {  # name script[+second_script] [server options...]
   local scene=scenes/puma_wall.yaml seconds=""
   if [[ $name == paper_* ]]; then scene=scenes/puma_obstacle.yaml; seconds="--duration 6"; fi
   local only=$channels
-  [[ "$*" == *fault* ]] && only='IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE_TRUTH)'
+  [[ "$*" == *fault* ]] && only='IGMS_(SESSION_INFO|SESSION_FILES|HAPTIC_INPUT|ROBOT_STATE_TRUTH)'
   igms_start_logger "$out/$name.lcmlog" "$url" -c "$only" -q --wait-session-s 5
   igms_start_server $scene "$url" --clock lockstep --quiet "$@"
   if [[ -n $second ]]; then igms_start_client $scene "scripted:$second" "$url" --quiet --client-id 2 $seconds; fi

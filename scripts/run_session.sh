@@ -42,7 +42,7 @@ mkdir -p "$out"
 out=$(cd "$out" && pwd)
 url="udpm://239.255.76.67:${IGMS_SESSION_PORT:-7797}?ttl=0"
 igms_start_logger "$out/session.lcmlog" "$url" -q --wait-session-s 5 \
-  -c 'IGMS_(SESSION_INFO|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS|CONTACTS)'
+  -c 'IGMS_(SESSION_INFO|SESSION_FILES|HAPTIC_INPUT|ROBOT_STATE|SERVER_STATUS|CLIENT_STATUS|CONTACTS)'
 igms_start_server "$scene" "$url" --clock lockstep --quiet --save-edited "$out/edited_trajectory.yaml"
 if [[ -n $second ]]; then  # the second hand, client 2, alongside
   igms_start_client "$scene" "scripted:$second" "$url" --client-id 2 --duration "$seconds" --connect-timeout 30 \

@@ -1,5 +1,6 @@
 #include "core/model_io/model_fingerprint.h"
 
+#include <algorithm>
 #include <set>
 
 #include "core/model/robot_description.h"
@@ -8,6 +9,11 @@
 namespace igms {
 
 std::vector<MeshFingerprint> meshFingerprints(const Model& model, const std::string& model_path) {
+  return meshFingerprints(model, model_path, 0, static_cast<int>(model.frames.size()));
+}
+
+std::vector<MeshFingerprint> meshFingerprints(const Model& model, const std::string& model_path, int frame_begin,
+                                              int frame_end) {
   std::vector<MeshFingerprint> out;
   std::set<std::string> seen;
   auto add = [&](const CollisionShape& s) {
@@ -22,7 +28,8 @@ std::vector<MeshFingerprint> meshFingerprints(const Model& model, const std::str
     }
     out.push_back(std::move(f));
   };
-  for (const Frame& frame : model.frames) {
+  for (int f = std::max(frame_begin, 0); f < std::min(frame_end, static_cast<int>(model.frames.size())); ++f) {
+    const Frame& frame = model.frames[static_cast<size_t>(f)];
     for (const CollisionShape& c : frame.collisions) add(c);
     for (const VisualShape& v : frame.visuals) add(v.geometry);
   }

@@ -17,5 +17,9 @@ struct MeshFingerprint {
 
 // Each distinct mesh once, in the order the model's frames name them.
 std::vector<MeshFingerprint> meshFingerprints(const Model& model, const std::string& model_path);
+// The same for frames [frame_begin, frame_end) (one part of an environment: a robot, resolved beside
+// its own model file; the free bodies, beside the scene).
+std::vector<MeshFingerprint> meshFingerprints(const Model& model, const std::string& model_path, int frame_begin,
+                                              int frame_end);
 
 }  // namespace igms

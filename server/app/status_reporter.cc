@@ -18,6 +18,7 @@ StatusReporter::StatusReporter(bus::SignedPublisher& bus, const Simulation& sim,
                                LoopStatus& loop, bool quiet, double hold_s)
     : bus_(bus), receiver_(receiver), loop_(loop), quiet_(quiet), hold_s_(hold_s), scene_(sim.scene().source) {
   info_ = describeSession(sim, clock);
+  files_ = describeSessionFiles(sim);
   for (const auto& f : sim.model().frames) link_names_.push_back(f.name);
   components_ = sim.activeComponents();
   window_start_ = monotonicSeconds();
@@ -34,6 +35,9 @@ void StatusReporter::pumpSessionInfo() {
   info_.utime = wallMicros();
   info_.session_token = token_;
   bus_.publish(channels::kSessionInfo, info_);
+  files_.utime = info_.utime;
+  files_.session_token = token_;
+  bus_.publish(channels::kSessionFiles, files_);
 }
 
 void StatusReporter::pumpStatus(PublishStats& published) {

@@ -1,6 +1,6 @@
 // The server's status (IGMS_SERVER_STATUS, about 10 Hz, and one line on
 // stderr unless quiet), its bus status (IGMS_BUS_STATUS, 1 Hz: the message checks' counts) and the session info a replay needs
-// (IGMS_SESSION_INFO: at the start, after a reset, and every second).
+// (IGMS_SESSION_INFO, with every robot's files on IGMS_SESSION_FILES: at the start, after a reset, and every second).
 // Runs on the publishing thread; any thread may ask for the session info.
 #pragma once
 
@@ -11,6 +11,7 @@
 #include "bus/signed_publisher.h"
 #include "core/simulation/simulation.h"
 #include "igms/server_status_t.hpp"
+#include "igms/session_files_t.hpp"
 #include "igms/session_info_t.hpp"
 #include "server/app/state_publisher.h"
 #include "server/loop/loop_status.h"
@@ -42,6 +43,7 @@ class StatusReporter {
   bool quiet_;
   double hold_s_;
   session_info_t info_;
+  session_files_t files_;  // sent with each session info
   std::atomic<bool> info_due_{false};
   std::atomic<int64_t> token_{0};
   std::string scene_;

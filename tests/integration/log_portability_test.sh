@@ -7,12 +7,15 @@
 #    every event (private network namespace);
 #  - a log copied to an empty folder elsewhere re-simulates bit for bit
 #    (igms-replay resim) and on ODE (igms-ode-ref log), and its export holds
-#    the model, with no repository.
-#   tests/integration/log_portability_test.sh BUILD_DIR PORT
+#    the model, with no repository;
+#  - so does a new log of two robots (scenes/workcell.yaml, the PUMA and a
+#    Go1): IGMS_SESSION_FILES carries both models and every mesh's hash.
+#   tests/integration/log_portability_test.sh BUILD_DIR PORT SESSION_PORT
 set -euo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 build=$(cd "$1" && pwd)
 port=$2
+session_port=$3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 python=$("$src/scripts/python_env.sh")
@@ -59,4 +62,27 @@ if [[ -x $build/tools/igms-ode-ref ]]; then
   "$build/tools/igms-ode-ref" log paper_push.lcmlog.gz --json > "$tmp/ode.json"
   "$python" -c "import json,sys; j=json.load(open(sys.argv[1])); print('ODE replay from the log alone:', {k: j[k] for k in list(j)[:4]})" "$tmp/ode.json"
 fi
+
+# Two robots, recorded now (run_session.sh: lockstep server, the scripted hand, the logger).
+(cd "$src" && IGMS_BUILD="$build" IGMS_SESSION_PORT=$session_port scripts/run_session.sh scenes/workcell.yaml \
+   scenes/push_demo.yaml "$tmp/workcell" --seconds 2 >/dev/null)
+mkdir "$tmp/elsewhere2"
+cp "$tmp/workcell/session.lcmlog" "$tmp/elsewhere2/"
+cd "$tmp/elsewhere2"
+"$build/tools/igms-replay" resim session.lcmlog --require-identical | tee "$tmp/resim2.txt"
+grep -q "models: the log's copies of 2 of the scene's 2 robots' models$" "$tmp/resim2.txt" ||
+  { echo "log_portability_test: the two robots' log does not carry both models" >&2; exit 1; }
+# Every mesh the Go1 names was hashed at record time (it is not here: "here missing").
+meshes=$(grep -c "note: mesh package://example-robot-data/robots/go1_description/meshes/.*: recorded [0-9a-f]\{16\}, here missing" \
+  "$tmp/resim2.txt" || true)
+(( meshes >= 5 )) || { echo "log_portability_test: $meshes Go1 mesh hashes in the log" >&2; exit 1; }
+"$build/tools/igms-replay" export session.lcmlog out >/dev/null
+cmp out/go1_go1.urdf "$src/third_party/example-robot-data/robots/go1_description/urdf/go1.urdf"
+cmp out/puma_puma560.urdf "$src/models/puma560.urdf"
+PYTHONPATH="$build/python:$src/python" "$python" -c "
+import sys, igmslog
+log = igmslog.read(sys.argv[1])
+texts = igmslog.model_texts(log)
+assert sorted(texts) == ['go1', 'puma'] and all('<robot' in t for t in texts.values()), sorted(texts)
+print('igmslog: the models of', ', '.join(sorted(texts)), 'from the log')" session.lcmlog
 echo "log_portability_test: ok"

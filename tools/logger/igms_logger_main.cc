@@ -9,7 +9,8 @@
 // bounded queue and a writer thread writes; events dropped because the queue
 // was full are counted per channel and reported. The first event of each log
 // file is the server's session_info (scene, model hash, build), held back for
-// up to --wait-session-s while it has not been seen.
+// up to --wait-session-s while it has not been seen, and then its session
+// files (every robot's model; session_files_t) once seen.
 //
 // With the bus key (--key-file) every message is checked as it arrives: what
 // passes is recorded as it came (signature and all, so the check can be made
@@ -125,11 +126,17 @@ class Logger {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      // Move the newest session info to the front.
+      // Move the newest session info (and the files that come with it) to the front.
       for (auto it = queue_.rbegin(); it != queue_.rend(); ++it)
         if (it->channel == igms::channels::kSessionInfo) {
           session_ = *it;
           have_session_copy_ = true;
+          break;
+        }
+      for (auto it = queue_.rbegin(); it != queue_.rend(); ++it)
+        if (it->channel == igms::channels::kSessionFiles) {
+          session_files_ = *it;
+          have_files_copy_ = true;
           break;
         }
     }
@@ -151,6 +158,9 @@ class Logger {
         if (q.channel == igms::channels::kSessionInfo) {
           session_ = q;
           have_session_copy_ = true;
+        } else if (q.channel == igms::channels::kSessionFiles) {
+          session_files_ = q;
+          have_files_copy_ = true;
         }
         if (o_.slow_disk_us > 0)  // a test hook: a disk this slow per event
           std::this_thread::sleep_for(std::chrono::microseconds(static_cast<int64_t>(o_.slow_disk_us)));
@@ -219,6 +229,10 @@ class Logger {
       writer_->write(session_.utime, session_.channel, session_.data.data(), session_.data.size());
       ++written_;
     }
+    if (have_files_copy_) {
+      writer_->write(session_files_.utime, session_files_.channel, session_files_.data.data(), session_files_.data.size());
+      ++written_;
+    }
     // Rotation: keep the newest N files.
     while (o_.rotate > 0 && static_cast<int>(files_.size()) > o_.rotate) {
       std::remove(files_.front().c_str());
@@ -235,8 +249,8 @@ class Logger {
   std::deque<Queued> queue_;
   std::map<std::string, int64_t> received_, dropped_;
   std::atomic<bool> have_session_{false};
-  bool have_session_copy_ = false;
-  Queued session_;
+  bool have_session_copy_ = false, have_files_copy_ = false;
+  Queued session_, session_files_;
   std::unique_ptr<igms::log::LogWriter> writer_;
   std::vector<std::string> files_;
   int64_t written_ = 0;

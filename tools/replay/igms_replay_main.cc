@@ -40,6 +40,7 @@
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
+#include "igms/session_files_t.hpp"
 #include "igms/session_info_t.hpp"
 #include "server/collision/collision_world.h"
 #include "tools/eventlog/event_log.h"
@@ -176,6 +177,8 @@ int resim(const std::string& path, const ResimOptions& o) {
                           {"identical", r.identical},
                           {"max_deviation", r.max_deviation},
                           {"model_from_log", r.model_from_log},
+                          {"robots", r.robots},
+                          {"models_from_log", r.models_from_log},
                           {"mesh_differences", r.mesh_differences},
                           {"fields", nlohmann::json::object()}};
     for (const auto& d : r.deviations) out["fields"][d.field] = d.max_abs;
@@ -183,7 +186,11 @@ int resim(const std::string& path, const ResimOptions& o) {
   } else {
     std::printf("igms-replay: re-simulated %lld steps of %s (scene %s, recorded by %s)\n",
                 static_cast<long long>(r.steps), path.c_str(), r.scene_path.c_str(), r.build_logged.c_str());
-    if (r.model_from_log)
+    if (r.robots > 1)
+      std::printf("  models: the log's copies of %d of the scene's %d robots' models%s\n", r.models_from_log, r.robots,
+                  r.models_from_log < r.robots ? " (an older log carries the first robot's only; the rest from the disk)"
+                                               : "");
+    else if (r.model_from_log)
       std::printf("  model: the log's copy of %s%s\n", r.scene_path.empty() ? "the model" : "the scene's model",
                   r.model_hash_now == "absent"            ? " (the file is not here)"
                   : r.model_hash_logged != r.model_hash_now ? " (the file here has changed since)"
@@ -243,7 +250,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
   hands << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
   server << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
             "first_collision_time,min_obstacle_distance,commands_received,commands_rejected\n";
-  bool header = false;
+  bool header = false, wrote_models = false;
   std::vector<std::string> links;  // the state's link order, from any server status in the log
   for (const auto& e : c.events) {
     igms::server_status_t st;
@@ -275,6 +282,24 @@ int exportCsv(const std::string& path, const std::string& dir) {
         std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
                                             << "\nmodel_hash: " << s.model_hash << "\nmodel_file: " << model_file
                                             << "\nbuild: " << s.build_version << "\nclock: " << s.clock << "\n";
+      }
+    } else if (e.channel == igms::channels::kSessionFiles && !wrote_models) {
+      // Every robot's model (a scene of several): beside the scene, and listed in models.txt.
+      igms::session_files_t f;
+      if (!igms::safeDecode(d, n, &f)) continue;
+      wrote_models = true;
+      std::ofstream list(dir + "/models.txt");
+      for (const igms::robot_files_t& r : f.robots) {
+        std::string file = std::filesystem::path(r.model_path).filename().string();
+        if (!r.robot.empty() && f.robots.size() > 1) file = r.robot + "_" + file;
+        try {
+          std::ofstream(dir + "/" + file) << igms::inflateText(r.model_zlib.data(), r.model_zlib.size(),
+                                                                static_cast<size_t>(r.model_size), "the log's model");
+        } catch (const std::exception& x) {
+          std::fprintf(stderr, "igms-replay: %s: %s\n", r.model_path.c_str(), x.what());
+          file.clear();
+        }
+        list << (r.robot.empty() ? "-" : r.robot) << " " << file << " " << r.model_hash << " " << r.model_path << "\n";
       }
     } else if (e.channel == igms::channels::kServerStatus) {
       igms::server_status_t s;

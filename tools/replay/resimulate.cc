@@ -46,6 +46,8 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
     sim = std::make_unique<Simulation>(recordedScene(session, base_dir));
     const RobotSpec* robot = sim->scene().robot();
     out.model_from_log = robot && !robot->model_text.empty();
+    out.robots = static_cast<int>(sim->scene().robots.size());
+    for (const RobotSpec& r : sim->scene().robots) out.models_from_log += !r.model_text.empty();
     try {
       out.model_hash_now = robot ? textHash(readModelFile(robot->model_path)) : "none";
     } catch (const std::exception&) {

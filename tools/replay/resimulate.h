@@ -28,7 +28,8 @@ struct ResimResult {
   bool identical = false;     // every compared double bit-identical
   double max_deviation = 0.0;
   std::string scene_path, model_hash_logged, model_hash_now, build_logged;
-  bool model_from_log = false;                // the log carried the model file (else read from the disk)
+  bool model_from_log = false;                // the log carried the (first robot's) model file (else read from the disk)
+  int robots = 0, models_from_log = 0;        // the scene's robots, and how many of their models came from the log
   std::vector<std::string> mesh_differences;  // meshes here that differ from the recording's
   std::vector<double> final_q;  // the re-simulated final configuration
 };

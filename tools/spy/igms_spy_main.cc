@@ -33,6 +33,7 @@
 #include "igms/heartbeat_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
+#include "igms/session_files_t.hpp"
 #include "igms/session_info_t.hpp"
 #include "igms/trajectory_t.hpp"
 #include "safe_decode.h"
@@ -114,6 +115,23 @@ bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name,
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "session_info_t";
   *line = "scene " + m.scene_path + ", " + m.clock + ", " + m.build_version;
+  *seq = -1;
+  return true;
+}
+template <>
+bool summarize<igms::session_files_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
+  igms::session_files_t m;
+  if (!igms::safeDecode(d, n, &m)) return false;
+  *name = "session_files_t";
+  int64_t bytes = 0, meshes = m.nmeshes;
+  std::string robots;
+  for (const auto& r : m.robots) {
+    bytes += r.model_size;
+    meshes += r.nmeshes;
+    robots += (robots.empty() ? "" : ", ") + (r.robot.empty() ? std::string("robot") : r.robot);
+  }
+  *line = std::to_string(m.nrobots) + " models (" + robots + "; " + std::to_string(bytes) + " bytes), " +
+          std::to_string(meshes) + " mesh hashes";
   *seq = -1;
   return true;
 }
@@ -216,7 +234,7 @@ class Spy {
                  decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
                  decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>(),
                  decoder<igms::bus_status_t>(), decoder<igms::device_status_t>(), decoder<igms::device_reading_t>(),
-                 decoder<igms::device_force_t>()};
+                 decoder<igms::device_force_t>(), decoder<igms::session_files_t>()};
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
     if (!std::regex_match(channel, filter_)) return;
