@@ -94,10 +94,17 @@ def stall(path):
     print(f"stall: {len(ok)} of {len(listed)} server statuses in the gap list client 2 released, client 1 active")
     if not listed or len(ok) < len(listed) - 1:
         fail("the server status does not show client 2 released and client 1 active")
-    # Client 1's own loop: its rate in the status windows of the gap.
-    rates = [m.rate_hz for t, m in client1 if a + 0.1e6 < t < b]
-    print(f"stall: client 1's rate in the gap: {', '.join(f'{r:.0f}' for r in rates)} Hz")
-    if not rates or min(rates) < 900:
+    # Client 1's own loop: its cycles over the gap (from its first status in it to its last). A single
+    # status window's rate is noisy on a loaded machine (CI: 875 then 1154 Hz, a late status wake-up
+    # splitting the cycles unevenly), so the windows are printed and the whole gap's rate asserted.
+    inside = [(t, m) for t, m in client1 if a + 0.1e6 < t < b]
+    print(f"stall: client 1's rate in the gap's status windows: {', '.join(f'{m.rate_hz:.0f}' for _, m in inside)} Hz")
+    if len(inside) < 2:
+        fail("too few client statuses in the gap")
+    (t0, m0), (t1, m1) = inside[0], inside[-1]
+    rate = (m1.cycles - m0.cycles) / ((t1 - t0) * 1e-6)
+    print(f"stall: client 1 ran {m1.cycles - m0.cycles} cycles in {(t1 - t0) * 1e-6:.3f} s: {rate:.0f} Hz")
+    if rate < 950:
         fail("client 1's rate dropped while client 2 was stopped")
 
 
