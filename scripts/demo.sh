@@ -2,6 +2,8 @@
 # The main job: the paper's experiment over the real bus, on a fresh machine.
 #   bash scripts/demo.sh            the push experiment (two pushes on link 2, Fig. 6 and 7)
 #   bash scripts/demo.sh --pull     the pull experiment (dragging the end-effector, Fig. 8)
+#   --out DIR                       write there instead of out/demo
+#   --no-setup                      skip the set-up (the packages and the build are there: demo_test)
 # Installs and builds (scripts/setup.sh), then, inside a private network
 # namespace, starts igms-logger, igms-server (scenes/puma_obstacle.yaml, lockstep)
 # and igms-haptic (the scripted device at 1 kHz), stops them cleanly, and writes
@@ -20,15 +22,28 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=push
-if [[ "${1:-}" == "--pull" ]]; then mode=pull; fi
-echo "demo: [1/5] set-up: packages, robot models, Python environments, the build (minutes on a fresh machine)"
-scripts/setup.sh >/dev/null
 out=out/demo
+setup=1
+while (($#)); do
+  case $1 in
+    --pull) mode=pull ;;
+    --out) out=${2:?--out needs a folder}; shift ;;
+    --no-setup) setup=0 ;;
+    *) echo "demo: unknown argument $1 (expected --pull, --out DIR, --no-setup)" >&2; exit 2 ;;
+  esac
+  shift
+done
+if ((setup)); then
+  echo "demo: [1/5] set-up: packages, robot models, Python environments, the build (minutes on a fresh machine)"
+  scripts/setup.sh >/dev/null
+else
+  echo "demo: [1/5] set-up skipped (--no-setup)"
+fi
 rm -rf "$out"
 mkdir -p "$out"
 echo "demo: [2/5] the nominal motion, no hand (7 s simulated)"
 scripts/paper_run.sh nominal "$out/nominal" > /dev/null
-echo "== without interaction (out/demo/nominal/summary.md):"
+echo "== without interaction ($out/nominal/summary.md):"
 sed -n 4,5p "$out/nominal/summary.md"
 echo
 echo "demo: [3/5] the paper's $mode experiment over the bus (server, haptic client, logger), then its plots and live-view screenshots"
@@ -38,21 +53,21 @@ echo
 scripts/screenshot_pushes.py "$out/session.lcmlog" "$out"
 echo
 echo "demo: [4/5] two hands at once"
-echo "== two hands at once (out/demo/two_hands/summary.md):"
+echo "== two hands at once ($out/two_hands/summary.md):"
 scripts/paper_run.sh two_hands "$out/two_hands" | sed -n '3,$p'
 echo
 echo "demo: [5/5] the environment: the line across a table with boxes, then the Go1 pushed on its trunk"
 scripts/run_session.sh scenes/table_clear.yaml scenes/idle_device.yaml "$out/table/nominal" --seconds 6 \
   --title "the line across the table, no hand" > /dev/null
-echo "== without a hand (out/demo/table/nominal/summary.md):"
+echo "== without a hand ($out/table/nominal/summary.md):"
 grep -E "box_b|touched a free body" "$out/table/nominal/summary.md"
 echo
-echo "== a hand clears the arm's way (out/demo/table/summary.md):"
+echo "== a hand clears the arm's way ($out/table/summary.md):"
 scripts/run_session.sh scenes/table_clear.yaml scenes/table_clear_push.yaml "$out/table" --seconds 6 \
   --title "a hand clears the arm's way" | sed -n '3,$p'
 scripts/screenshot_pushes.py "$out/table/session.lcmlog" "$out/table"
 echo
-echo "== the Go1 standing, a hand pushes its trunk (out/demo/go1/summary.md):"
+echo "== the Go1 standing, a hand pushes its trunk ($out/go1/summary.md):"
 scripts/run_session.sh scenes/go1_stand.yaml scenes/go1_trunk_push.yaml "$out/go1" --seconds 5 \
   --title "the Go1 standing, a hand pushes its trunk" | sed -n '3,$p'
 scripts/screenshot_pushes.py "$out/go1/session.lcmlog" "$out/go1"
