@@ -19,6 +19,29 @@ std::string modelTextOf(const RobotSpec& robot) {
   }
 }
 
+// A robot's files into a message that has the model and trajectory fields
+// (session_info_t, robot_files_t: the same names).
+template <typename Message>
+void putRobotFiles(const RobotSpec& robot, Message* out) {
+  out->model_path = robot.model_path;
+  const std::string text = modelTextOf(robot);
+  out->model_hash = text.empty() ? "unreadable" : textHash(text);
+  out->model_size = static_cast<int32_t>(text.size());
+  out->model_zlib = deflateText(text);
+  out->model_zlib_size = static_cast<int32_t>(out->model_zlib.size());
+  out->trajectory_path = robot.trajectory.file;
+  out->trajectory_text = robot.trajectory.file_text;
+}
+
+template <typename Message>
+void putMeshes(const std::vector<MeshFingerprint>& meshes, Message* out) {
+  for (const MeshFingerprint& m : meshes) {
+    out->mesh_uris.push_back(m.uri);
+    out->mesh_hashes.push_back(m.hash);
+  }
+  out->nmeshes = static_cast<int32_t>(out->mesh_uris.size());
+}
+
 }  // namespace
 
 session_info_t describeSession(const Simulation& sim, const std::string& clock) {
@@ -32,19 +55,8 @@ session_info_t describeSession(const Simulation& sim, const std::string& clock) 
   // The first robot's model file (a scene of free bodies has none; its shapes are in the scene).
   static const RobotSpec kNoRobot;
   const RobotSpec& robot = scene.robot() ? *scene.robot() : kNoRobot;
-  info.model_path = robot.model_path;
-  const std::string model_text = modelTextOf(robot);
-  info.model_hash = model_text.empty() ? "unreadable" : textHash(model_text);
-  info.model_size = static_cast<int32_t>(model_text.size());
-  info.model_zlib = deflateText(model_text);
-  info.model_zlib_size = static_cast<int32_t>(info.model_zlib.size());
-  info.trajectory_path = robot.trajectory.file;
-  info.trajectory_text = robot.trajectory.file_text;
-  for (const MeshFingerprint& m : meshFingerprints(sim.model(), robot.model_path.empty() ? scene.source : robot.model_path)) {
-    info.mesh_uris.push_back(m.uri);
-    info.mesh_hashes.push_back(m.hash);
-  }
-  info.nmeshes = static_cast<int32_t>(info.mesh_uris.size());
+  putRobotFiles(robot, &info);
+  putMeshes(meshFingerprints(sim.model(), robot.model_path.empty() ? scene.source : robot.model_path), &info);
   info.clock = clock;
   info.dt = scene.dt;
   return info;
@@ -65,34 +77,22 @@ session_files_t describeSessionFiles(const Simulation& sim) {
     const RobotSpec& robot = scene.robots[k];
     robot_files_t r;
     r.robot = robot.name;
-    r.model_path = robot.model_path;
-    const std::string text = modelTextOf(robot);
-    r.model_hash = text.empty() ? "unreadable" : textHash(text);
-    r.model_size = static_cast<int32_t>(text.size());
-    r.model_zlib = deflateText(text);
-    r.model_zlib_size = static_cast<int32_t>(r.model_zlib.size());
-    r.trajectory_path = robot.trajectory.file;
-    r.trajectory_text = robot.trajectory.file_text;
-    if (k < robot_parts.size()) {
-      for (const MeshFingerprint& m :
-           meshFingerprints(model, robot.model_path, robot_parts[k]->frame_begin, robot_parts[k]->frame_end)) {
-        r.mesh_uris.push_back(m.uri);
-        r.mesh_hashes.push_back(m.hash);
-      }
-    }
-    r.nmeshes = static_cast<int32_t>(r.mesh_uris.size());
+    putRobotFiles(robot, &r);
+    r.nmeshes = 0;
+    if (k < robot_parts.size())
+      putMeshes(meshFingerprints(model, robot.model_path, robot_parts[k]->frame_begin, robot_parts[k]->frame_end), &r);
     files.robots.push_back(std::move(r));
   }
   files.nrobots = static_cast<int32_t>(files.robots.size());
+  std::vector<MeshFingerprint> free_bodies;  // each distinct mesh once
   for (const ModelPart& part : model.parts) {
     if (!part.free_body) continue;
-    for (const MeshFingerprint& m : meshFingerprints(model, scene.source, part.frame_begin, part.frame_end)) {
-      if (std::find(files.mesh_uris.begin(), files.mesh_uris.end(), m.uri) != files.mesh_uris.end()) continue;
-      files.mesh_uris.push_back(m.uri);
-      files.mesh_hashes.push_back(m.hash);
-    }
+    for (MeshFingerprint& m : meshFingerprints(model, scene.source, part.frame_begin, part.frame_end))
+      if (std::none_of(free_bodies.begin(), free_bodies.end(), [&](const MeshFingerprint& f) { return f.uri == m.uri; }))
+        free_bodies.push_back(std::move(m));
   }
-  files.nmeshes = static_cast<int32_t>(files.mesh_uris.size());
+  files.nmeshes = 0;
+  putMeshes(free_bodies, &files);
   return files;
 }
 
