@@ -289,9 +289,12 @@ TEST(Client, AStallDuringContactDeliversNoStoredUpForceToTheRobot) {
     EXPECT_LE(largest_step, 1.0) << c.what << ": what comes back, comes back as a ramp";
     // A push's stored-up depth is not delivered at all on the realtime clock (the server's default). Lockstep
     // applies every input in order, so the ones the client sent in the 50 ms before it declared the server
-    // lost still arrive: a few newtons more.
+    // lost still arrive: a few newtons more. "before" covers the push's first 50 ms only, and the push goes
+    // on rising after the ramp as it does without a stall (7.0 to 9.4 N from run to run: CI saw 7.15 N before
+    // and 8.26 N after, with 9.36 N undisturbed): the bound is the larger of the two. A stored-up push
+    // reached 22 to 40 N.
     if (c.mode == haptic_input_t::MODE_PUSH) {
-      EXPECT_LE(right_after, before + (std::string(c.clock) == "lockstep" ? 4.0 : 1.0))
+      EXPECT_LE(right_after, std::max(before, undisturbed) + (std::string(c.clock) == "lockstep" ? 4.0 : 1.0))
           << c.what << ": nothing stored up is delivered";
     }
   }
