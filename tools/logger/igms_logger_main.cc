@@ -127,17 +127,13 @@ class Logger {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       // Move the newest session info (and the files that come with it) to the front.
-      for (auto it = queue_.rbegin(); it != queue_.rend(); ++it)
-        if (it->channel == igms::channels::kSessionInfo) {
+      for (auto it = queue_.rbegin(); it != queue_.rend() && !(have_session_copy_ && have_files_copy_); ++it)
+        if (it->channel == igms::channels::kSessionInfo && !have_session_copy_) {
           session_ = *it;
           have_session_copy_ = true;
-          break;
-        }
-      for (auto it = queue_.rbegin(); it != queue_.rend(); ++it)
-        if (it->channel == igms::channels::kSessionFiles) {
+        } else if (it->channel == igms::channels::kSessionFiles && !have_files_copy_) {
           session_files_ = *it;
           have_files_copy_ = true;
-          break;
         }
     }
     if (!have_session_copy_ && !o_.quiet)

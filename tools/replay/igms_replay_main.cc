@@ -229,6 +229,20 @@ int robotBodyContacts(const igms::Simulation& sim) {
   return n;
 }
 
+// The log's copy of a model file (session_info_t's or a robot_files_t's: the same fields) as dir/file.
+template <typename Message>
+bool writeLoggedModel(const std::string& dir, const std::string& file, const Message& m) {
+  try {
+    const std::string text =
+        igms::inflateText(m.model_zlib.data(), m.model_zlib.size(), static_cast<size_t>(m.model_size), "the log's model");
+    std::ofstream(dir + "/" + file) << text;
+    return true;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "igms-replay: %s: %s\n", m.model_path.c_str(), e.what());
+    return false;
+  }
+}
+
 int exportCsv(const std::string& path, const std::string& dir) {
   const auto c = load(path);
   std::error_code made;
@@ -268,17 +282,8 @@ int exportCsv(const std::string& path, const std::string& dir) {
       if (igms::safeDecode(d, n, &s)) {
         std::ofstream(dir + "/scene.yaml") << s.scene_text;
         // The log's copy of the model, next to the scene: an export stands on its own too.
-        std::string model_file;
-        if (s.model_size > 0) {
-          try {
-            const std::string text = igms::inflateText(s.model_zlib.data(), s.model_zlib.size(),
-                                                       static_cast<size_t>(s.model_size), "the log's model");
-            model_file = std::filesystem::path(s.model_path).filename().string();
-            std::ofstream(dir + "/" + model_file) << text;
-          } catch (const std::exception& e) {
-            std::fprintf(stderr, "igms-replay: %s\n", e.what());
-          }
-        }
+        std::string model_file = std::filesystem::path(s.model_path).filename().string();
+        if (s.model_size <= 0 || !writeLoggedModel(dir, model_file, s)) model_file.clear();
         std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
                                             << "\nmodel_hash: " << s.model_hash << "\nmodel_file: " << model_file
                                             << "\nbuild: " << s.build_version << "\nclock: " << s.clock << "\n";
@@ -292,13 +297,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
       for (const igms::robot_files_t& r : f.robots) {
         std::string file = std::filesystem::path(r.model_path).filename().string();
         if (!r.robot.empty() && f.robots.size() > 1) file = r.robot + "_" + file;
-        try {
-          std::ofstream(dir + "/" + file) << igms::inflateText(r.model_zlib.data(), r.model_zlib.size(),
-                                                                static_cast<size_t>(r.model_size), "the log's model");
-        } catch (const std::exception& x) {
-          std::fprintf(stderr, "igms-replay: %s: %s\n", r.model_path.c_str(), x.what());
-          file.clear();
-        }
+        if (!writeLoggedModel(dir, file, r)) file.clear();
         list << (r.robot.empty() ? "-" : r.robot) << " " << file << " " << r.model_hash << " " << r.model_path << "\n";
       }
     } else if (e.channel == igms::channels::kServerStatus) {

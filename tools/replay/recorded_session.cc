@@ -21,10 +21,10 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
       out.has_info = safeDecode(e.data.data(), size, &out.info);
       out.undecodable += !out.has_info;
     } else if (e.channel == channels::kSessionFiles && !out.has_files) {
-      // The first that goes with the session info (the log's first event).
+      // The first that goes with the session info (the log's first event): its token and scene.
       session_files_t m;
       if (!safeDecode(e.data.data(), size, &m)) ++out.undecodable;
-      else if (out.has_info && m.session_token == out.info.session_token) {
+      else if (out.has_info && m.session_token == out.info.session_token && m.scene_path == out.info.scene_path) {
         out.files = std::move(m);
         out.has_files = true;
       }
@@ -49,14 +49,13 @@ Scene recordedScene(const RecordedSession& session, const std::string& base_dir)
   const session_info_t& info = session.info;
   const std::filesystem::path path(info.scene_path);
   const std::filesystem::path dir = path.is_absolute() ? path.parent_path() : std::filesystem::path(base_dir) / path.parent_path();
-  const bool all = filesMatch(session);
   std::map<std::string, std::string> files;
   if (!info.trajectory_path.empty()) files[info.trajectory_path] = info.trajectory_text;
-  if (all)
+  if (session.has_files)
     for (const robot_files_t& r : session.files.robots)
       if (!r.trajectory_path.empty()) files[r.trajectory_path] = r.trajectory_text;
   Scene scene = parseScene(info.scene_text, info.scene_path, dir.empty() ? "." : dir.string(), &files);
-  if (all) {
+  if (session.has_files) {
     for (size_t k = 0; k < scene.robots.size() && k < session.files.robots.size(); ++k) {
       const robot_files_t& r = session.files.robots[k];
       if (r.model_size > 0)
@@ -68,11 +67,6 @@ Scene recordedScene(const RecordedSession& session, const std::string& base_dir)
                                    "the log's copy of " + info.model_path);
   }
   return scene;
-}
-
-bool filesMatch(const RecordedSession& session) {
-  return session.has_files && session.files.session_token == session.info.session_token &&
-         session.files.scene_path == session.info.scene_path;
 }
 
 namespace {
@@ -94,7 +88,7 @@ void compareMeshes(const std::vector<std::string>& uris, const std::vector<std::
 std::vector<std::string> meshDifferences(const RecordedSession& session, const Model& model) {
   std::vector<std::string> out;
   const session_info_t& info = session.info;
-  if (!filesMatch(session)) {
+  if (!session.has_files) {
     compareMeshes(info.mesh_uris, info.mesh_hashes, meshFingerprints(model, info.model_path), &out);
     return out;
   }

@@ -22,7 +22,7 @@ namespace igms {
 struct RecordedSession {
   bool has_info = false;
   session_info_t info;
-  bool has_files = false;  // the session's files (every robot's model); older logs have the info's only
+  bool has_files = false;  // the files of the info's session (its token and scene): every robot's model; older logs have none
   session_files_t files;
   std::vector<robot_state_t> states;        // sorted by seq
   std::map<std::pair<int32_t, int64_t>, haptic_input_t> inputs;  // by (client_id, seq)
@@ -32,9 +32,6 @@ struct RecordedSession {
 };
 
 RecordedSession readRecordedSession(const std::vector<log::Event>& events);
-
-// The session files belong to the session info (the same session token and scene).
-bool filesMatch(const RecordedSession& session);
 
 // The scene of the session; base_dir resolves a relative scene path (the
 // server's working directory at record time), an absolute one needs none.
