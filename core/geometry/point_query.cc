@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/geometry/mesh_query.h"
 #include "core/model/closest_point_on_triangle.h"
 
 namespace igms {
@@ -194,10 +195,26 @@ PointQuery pointQuery(const CollisionShape& shape, const SE3& pose, const Vector
       Vector3 gradient;
       // Each corner's distance is within sqrt(3) spacings of p's (the distance is 1-Lipschitz), so the
       // interpolation overstates it by at most that: reach that much further before giving up.
-      if (!sampleField(f, c, reach + std::sqrt(3.0) * f.spacing, &distance, &gradient)) return out;
+      const double slack = std::sqrt(3.0) * f.spacing;
+      const bool in_grid = sampleField(f, c, INFINITY, &distance, &gradient);
+      // Outside the grid is outside the mesh, at least the band away; the field's clamped values
+      // beyond the band say only which side p is on.
+      if (in_grid ? distance >= reach + slack : reach <= f.band) return out;
       Vector3 on_surface;
-      if (!(shape.triangles && !f.nearest.empty() &&
-            nearestOnMesh(f, *shape.triangles, c, distance, &distance, &normal, &on_surface))) {
+      const bool near = in_grid && std::abs(distance) < f.band - slack;
+      if (near && shape.triangles && !f.nearest.empty() &&
+          nearestOnMesh(f, *shape.triangles, c, distance, &distance, &normal, &on_surface)) {
+      } else if (shape.triangles) {
+        // The exact nearest surface, however far (a large sphere's centre, a point deep inside).
+        const bool inside_mesh = in_grid && distance < 0.0;
+        const MeshPoint m = nearestOnSurface(*shape.triangles, c, inside_mesh ? INFINITY : reach);
+        if (!m.found) return out;
+        distance = inside_mesh ? -m.distance : m.distance;
+        if (m.distance > 1e-12) normal = (inside_mesh ? Vector3(m.point - c) : Vector3(c - m.point)) / m.distance;
+        else normal = triangleNormal(*shape.triangles, m.triangle);
+        on_surface = m.point;
+      } else {
+        if (!in_grid) return out;
         const double g = gradient.norm();
         if (!(g > 1e-9)) return out;  // a flat spot deep inside: no direction to push
         normal = gradient / g;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/geometry/convex_distance.h"
+#include "core/geometry/mesh_query.h"
 #include "core/geometry/point_query.h"
 
 namespace igms {
@@ -85,6 +86,59 @@ void pointAgainst(const Vector3& x, double r, const CollisionShape& b, const SE3
   else c.add(q.surface, on_x, q.normal, q.distance - r);
 }
 
+// A sphere (centre x, radius r) against a mesh: the exact nearest surface point (point_query.h: the
+// field near the surface, the mesh's hierarchy beyond its band), and where the mesh is not convex
+// there (a groove, a bowl, a corner between two walls) the other places the sphere may touch: each
+// triangle within reach whose nearest point to x lies in front of every contact kept so far (a
+// point on or behind a kept contact's tangent plane cannot be reached before that contact is, as on
+// a flat face tiled by many triangles). At most kMaxPairPoints, nearest first.
+void sphereAgainstMesh(const Vector3& x, double r, const CollisionShape& mesh, const SE3& pm, double margin,
+                       Candidates& c, bool x_on_a) {
+  const PointQuery nearest = pointQuery(mesh, pm, x, margin + r);
+  if (!nearest.valid || nearest.distance - r >= margin) return;
+  auto add = [&](const Vector3& surface, const Vector3& normal, double distance) {
+    // normal: the mesh's outward normal toward x; seen from x's shape it points into it.
+    const Vector3 on_x = x - r * normal;
+    if (x_on_a) c.add(on_x, surface, -normal, distance - r);
+    else c.add(surface, on_x, normal, distance - r);
+  };
+  add(nearest.surface, nearest.normal, nearest.distance);
+  if (!(nearest.distance > 0.0) || !mesh.triangles) return;  // the centre inside: the one way out
+  constexpr int kMost = 64;         // triangles within reach considered, the nearest kept
+  constexpr double kInFront = 1e-7;  // m: a point this little in front of a kept plane is on it
+  struct Near {
+    double distance;
+    Vector3 point;
+  } found[kMost];
+  int n = 0;
+  const TriangleMesh& tm = *mesh.triangles;
+  const Vector3 xl = pm.R.transpose() * (x - pm.p);
+  forEachTriangleNear(tm, xl, r + margin, [&](int t) {
+    const TrianglePoint q = closestOnTriangle(tm, t, xl);
+    const double d = (xl - q.point).norm();
+    if (!(d - r < margin) || !(d > 1e-12)) return;
+    int at = n;
+    if (n < kMost) ++n;
+    else if (found[--at].distance <= d) return;  // full: the farthest gives way, if this one is nearer
+    for (; at > 0 && found[at - 1].distance > d; --at) found[at] = found[at - 1];
+    found[at] = Near{d, q.point};
+  });
+  Vector3 kept_point[kMaxPairPoints], kept_normal[kMaxPairPoints];
+  kept_point[0] = pm.R.transpose() * (nearest.surface - pm.p);
+  kept_normal[0] = pm.R.transpose() * nearest.normal;
+  int kept = 1;
+  for (int i = 0; i < n && kept < kMaxPairPoints; ++i) {
+    const Vector3& q = found[i].point;
+    bool behind = false;
+    for (int j = 0; j < kept && !behind; ++j) behind = kept_normal[j].dot(q - kept_point[j]) <= kInFront;
+    if (behind) continue;
+    kept_point[kept] = q;
+    kept_normal[kept] = (xl - q) / found[i].distance;
+    add(pm.act(q), pm.R * kept_normal[kept], found[i].distance);
+    ++kept;
+  }
+}
+
 // Every sample point of shape s (a mesh's samples, or its feature points) against the other shape.
 void samplesAgainst(const CollisionShape& s, const SE3& ps, const CollisionShape& other, const SE3& po, double margin,
                     Candidates& c, bool s_is_a, const Vector3& toward = Vector3::Zero()) {
@@ -96,7 +150,10 @@ void samplesAgainst(const CollisionShape& s, const SE3& ps, const CollisionShape
   Vector3 pts[2 * kRimPoints + 2];
   double radius[2 * kRimPoints + 2];
   const int n = featurePoints(s, ps, pts, radius, toward);
-  for (int k = 0; k < n; ++k) pointAgainst(pts[k], radius[k], other, po, margin, c, s_is_a);
+  for (int k = 0; k < n; ++k) {
+    if (other.kind == Kind::Mesh && radius[k] > 0.0) sphereAgainstMesh(pts[k], radius[k], other, po, margin, c, s_is_a);
+    else pointAgainst(pts[k], radius[k], other, po, margin, c, s_is_a);
+  }
 }
 
 // A cylinder's rim point farthest along `toward` on each cap (exact: where a cylinder lying on its
@@ -186,6 +243,31 @@ void capsules(const CollisionShape& a, const SE3& pa, const CollisionShape& b, c
   samplesAgainst(b, pb, a, pa, margin, c, false);
 }
 
+// GJK/EPA's normal, or the face normal it estimates: where a box's face or a cylinder's cap lies on the
+// other shape, EPA finds the face's normal only to its tolerance (1e-8 to 1e-6 off), and each step's
+// error, as a tangential push on a stack that nothing else pushes sideways, tips it over in time. A face
+// normal of either shape within kFaceAngle of the estimate is the contact's normal.
+Vector3 snappedToFace(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb, const Vector3& n) {
+  constexpr double kFaceAngle = 1e-4;  // rad
+  const double near = std::cos(kFaceAngle);
+  Vector3 best = n;
+  double best_dot = near;
+  auto offer = [&](const CollisionShape& s, const SE3& p) {
+    const int axes = s.kind == Kind::Box ? 3 : s.kind == Kind::Cylinder ? 1 : 0;
+    for (int k = 0; k < axes; ++k) {
+      const Vector3 u = p.R.col(s.kind == Kind::Box ? k : 2);
+      const double dot = u.dot(n);
+      if (std::abs(dot) > best_dot) {
+        best_dot = std::abs(dot);
+        best = dot > 0.0 ? u : Vector3(-u);
+      }
+    }
+  };
+  offer(a, pa);
+  offer(b, pb);
+  return best;
+}
+
 // Keeps at most kMaxPairPoints, spread as widely as they can be. The points within kHardlyShallower
 // of the deepest come first (a face on a face: all its corners are that deep, and whichever round-off
 // makes deepest must not decide which corners stay): the one farthest from their centre, the one
@@ -263,20 +345,32 @@ int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& 
     if (b.kind == Kind::Plane) return 0;
     againstPlane(pa, b, pb, margin, c);
   } else if (a.kind == Kind::Sphere) {
-    pointAgainst(pa.p, a.size[0], b, pb, margin, c, true);
+    if (b.kind == Kind::Mesh) sphereAgainstMesh(pa.p, a.size[0], b, pb, margin, c, true);
+    else pointAgainst(pa.p, a.size[0], b, pb, margin, c, true);
   } else if (b.kind == Kind::Sphere) {
-    pointAgainst(pb.p, b.size[0], a, pa, margin, c, false);
+    if (a.kind == Kind::Mesh) sphereAgainstMesh(pb.p, b.size[0], a, pa, margin, c, false);
+    else pointAgainst(pb.p, b.size[0], a, pa, margin, c, false);
   } else if (a.kind == Kind::Mesh || b.kind == Kind::Mesh) {
     samplesAgainst(a, pa, b, pb, margin, c, true);
     samplesAgainst(b, pb, a, pa, margin, c, false);
+    // A cylinder's side on a mesh: each cap's rim point farthest toward the mesh (its nearest surface
+    // from the cylinder's centre), exactly, where the rim's fixed points would leave it sunk between them.
+    for (const bool cyl_is_a : {true, false}) {
+      const CollisionShape &cyl = cyl_is_a ? a : b, &mesh = cyl_is_a ? b : a;
+      const SE3 &pc = cyl_is_a ? pa : pb, &pm = cyl_is_a ? pb : pa;
+      if (cyl.kind != Kind::Cylinder || mesh.kind != Kind::Mesh) continue;
+      const PointQuery q = pointQuery(mesh, pm, pc.p, margin + std::hypot(cyl.size[0], 0.5 * cyl.size[1]));
+      if (q.valid) extremeRimPoints(cyl, pc, -q.normal, mesh, pm, margin, c, cyl_is_a);
+    }
   } else if (a.kind == Kind::Capsule && b.kind == Kind::Capsule) {
     capsules(a, pa, b, pb, margin, c);
   } else {
     ConvexShape ca, cb;
     convexOf(a, pa, &ca);
     convexOf(b, pb, &cb);
-    const ConvexDistance d = convexDistance(ca, cb);
+    ConvexDistance d = convexDistance(ca, cb);
     if (!d.ok || d.distance >= margin) return 0;
+    d.normal = snappedToFace(a, pa, b, pb, d.normal);
     c.add(d.on_a, d.on_b, d.normal, d.distance);
     // Corners, rims and ends against the other shape (their exact gaps) share the pair's normal: a
     // corner on another's edge has no normal of its own (a stacked box's corners sit on the edges of
@@ -284,8 +378,9 @@ int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& 
     const int first = c.n;
     samplesAgainst(a, pa, b, pb, margin, c, true, d.normal);
     samplesAgainst(b, pb, a, pa, margin, c, false, d.normal);
-    extremeRimPoints(a, pa, -d.normal, b, pb, margin, c, true);
-    extremeRimPoints(b, pb, d.normal, a, pa, margin, c, false);
+    // d.normal points from a toward b: a's rim points farthest that way, b's farthest back.
+    extremeRimPoints(a, pa, d.normal, b, pb, margin, c, true);
+    extremeRimPoints(b, pb, -d.normal, a, pa, margin, c, false);
     for (int k = first; k < c.n; ++k) c.p[k].normal = d.normal;
   }
   return reduce(c, out);

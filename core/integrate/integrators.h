@@ -26,11 +26,17 @@
 // v in v_free and out v+, factored the step's matrix (the linearly-implicit A, factored; null: H's),
 // and the positions then move with v_position (integrateContactStep: floating joints on R^3 x SO(3)).
 // RK4 has no contact step (a scene with contact refuses it).
+//
+// An evaluator whose model has free bodies may also have
+//   FreeBodyMotion* freeBodies();   // null: none
+// (free_body_motion.h): the two Euler schemes then take a free body's rotation implicitly before the
+// contact solve, and move a free body the solve left alone by its exact, conservative step.
 #pragma once
 
 #include <type_traits>
 
 #include "core/dynamics/ltdl.h"
+#include "core/integrate/free_body_motion.h"
 #include "core/integrate/integrator_kind.h"
 #include "core/model/configuration.h"
 
@@ -41,12 +47,14 @@ struct IntegratorScratch {
   template <typename Eval>
   IntegratorScratch(const Model& m, const Eval& f)
       : start(f.makeEvaluation()), stage(f.makeEvaluation()), k2(m.nv), k3(m.nv), v2(m.nv), v3(m.nv),
-        v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m.nv, m.nv), rhs(m.nv), diag(m.nv) {}
+        v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m.nv, m.nv), rhs(m.nv), diag(m.nv),
+        v_free(m.nv) {}
   Evaluation start;  // f at the step's start state
   Evaluation stage;  // RK4's later stages
   VectorX k2, k3, v2, v3, v4, u, r2, r3, r4, qt;
   MatrixX A;
   VectorX rhs, diag;
+  VectorX v_free;  // the contact solve's input
 };
 
 // Does the evaluator take a contact step (constrain)?
@@ -55,22 +63,59 @@ struct HasContactStep : std::false_type {};
 template <typename T>
 struct HasContactStep<T, std::void_t<decltype(&T::constrain)>> : std::true_type {};
 
+// Does the evaluator move free bodies by their own step (freeBodies)?
+template <typename T, typename = void>
+struct HasFreeBodies : std::false_type {};
+template <typename T>
+struct HasFreeBodies<T, std::void_t<decltype(&T::freeBodies)>> : std::true_type {};
+
+// The Euler schemes' update once v holds the unconstrained v+ (v_start: the step's start velocity):
+// with contact, the world-velocity step, the free bodies' implicit rotation, the contact solve on
+// `factored` and the contact step's positions; without, q (+) h v. Either way the free bodies the
+// solve left alone then take their exact step.
+template <typename Eval, typename Scratch>
+void finishEulerStep(const Model& m, Eval& f, VectorX& q, VectorX& v, const VectorX& v_start, double h,
+                     const MatrixX* factored, Scratch& s) {
+  FreeBodyMotion* bodies = nullptr;
+  if constexpr (HasFreeBodies<Eval>::value) {
+    bodies = f.freeBodies();
+    if (bodies && bodies->empty()) bodies = nullptr;
+    if (bodies) bodies->begin(q, v_start);
+  }
+  bool contact = false;
+  if constexpr (HasContactStep<Eval>::value) {
+    if (f.hasContacts()) {
+      contact = true;
+      worldVelocityStep(m, v_start, h, v);
+      if constexpr (HasFreeBodies<Eval>::value) {
+        if (bodies) {
+          bodies->unconstrained(h, v);
+          s.v_free = v;
+        }
+      }
+      f.constrain(v_start, h, factored, v, s.v3);
+      if constexpr (HasFreeBodies<Eval>::value) {
+        if (bodies) bodies->markUntouched(s.v_free, v, s.v3);
+      }
+      integrateContactStep(m, q, v, s.v3, h, q);
+    }
+  }
+  if (!contact) integrateConfiguration(m, q, v, h, q);
+  if constexpr (HasFreeBodies<Eval>::value) {
+    if (bodies) {
+      if (!contact) bodies->markAllUntouched();
+      bodies->finish(h, q, v);
+    }
+  }
+}
+
 // v+ = v + h f(q, v); q+ = q (+) h v+. Stable for a spring only while k h^2 / m < 4.
 template <typename Eval, typename Scratch>
 void stepSemiImplicitEuler(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
   f.evaluate(q, v, s.start);
-  if constexpr (HasContactStep<Eval>::value) {
-    if (f.hasContacts()) {
-      s.v2 = v;
-      v += h * s.start.qdd;
-      worldVelocityStep(m, s.v2, h, v);
-      f.constrain(s.v2, h, nullptr, v, s.v3);
-      integrateContactStep(m, q, v, s.v3, h, q);
-      return;
-    }
-  }
+  s.v2 = v;
   v += h * s.start.qdd;
-  integrateConfiguration(m, q, v, h, q);
+  finishEulerStep(m, f, q, v, s.v2, h, nullptr, s);
 }
 
 // Classic RK4 on (q, v), as Runge-Kutta-Munthe-Kaas on the group: stage i
@@ -113,18 +158,9 @@ bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, doubl
   f.linearSystem(s.start, v, h, s.A, s.rhs);
   if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag) >= 0) return false;
   ltdlSolve(m.dof_parent, m.dof_run_start, s.A, s.rhs);
-  if constexpr (HasContactStep<Eval>::value) {
-    if (f.hasContacts()) {
-      s.v2 = v;
-      v += s.rhs;
-      worldVelocityStep(m, s.v2, h, v);
-      f.constrain(s.v2, h, &s.A, v, s.v3);
-      integrateContactStep(m, q, v, s.v3, h, q);
-      return true;
-    }
-  }
+  s.v2 = v;
   v += s.rhs;
-  integrateConfiguration(m, q, v, h, q);
+  finishEulerStep(m, f, q, v, s.v2, h, &s.A, s);
   return true;
 }
 

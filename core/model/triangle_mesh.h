@@ -7,12 +7,14 @@
 #include <vector>
 
 #include "core/model/spatial.h"
+#include "core/model/triangle_bvh.h"
 
 namespace igms {
 
 struct TriangleMesh {
   std::vector<Vector3> vertices;
   std::vector<std::array<int, 3>> triangles;
+  TriangleBvh bvh;  // over the triangles (empty until built: the exact queries then test every triangle)
 };
 
 }  // namespace igms

@@ -52,6 +52,7 @@ void attachDistanceFields(RobotDescription& description, const std::string& urdf
       Built& b = it->second;
       try {
         b.mesh = loadTriangleMesh(found.path, shape.mesh_scale);
+        b.mesh.bvh = buildTriangleBvh(b.mesh);
       } catch (const ModelError& e) {
         throw ModelError(urdf_path + ": link '" + link.name + "': " + e.what());
       }

@@ -19,7 +19,8 @@
 namespace igms {
 
 CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s, const VectorX& q_reference, const ContactModel* contacts)
-    : model_(m), scene_(s), limits_(m, q_reference, s.joint_limits), data_(m), tau_total_(VectorX::Zero(m.nv)),
+    : model_(m), scene_(s), limits_(m, q_reference, s.joint_limits), free_bodies_(m), data_(m),
+      tau_total_(VectorX::Zero(m.nv)),
       fext_(static_cast<size_t>(m.nb)), KJ_(6, m.nv), J_(6, m.nv) {
   for (int i = 0; i < m.nb; ++i)
     if (m.joint_type[i] == JointType::Floating) floating_.push_back(DofRange{m.v_index[i], m.v_index[i] + 6, 0.0});
@@ -132,6 +133,18 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   if (placed) bodyKinematics(model_, data_, q);
   if (detect) detection_->detect(data_, contact_set_);
   clearExternalForces(fext_);
+  if (step_start && !free_bodies_.empty()) {  // a free body a hand acts on takes the integrators' step
+    free_bodies_.clearDriven();
+    for (int h = 0; h < in.ncouplings; ++h) {
+      const Coupling& c = in.couplings[h];
+      const int frame = c.mode == InteractionMode::Push ? (c.push_shape ? c.contact_frame : -1)
+                        : c.mode == InteractionMode::Pull ? c.attach_frame
+                                                          : -1;
+      const int body = frame >= 0 ? model_.frame(frame).body : -1;
+      const int k = body >= 0 ? free_bodies_.ofPart(model_.partOfBody(body)) : -1;
+      if (k >= 0) free_bodies_.setDriven(k);
+    }
+  }
   bool any = false;
   out.ncouplings = in.ncouplings;
   for (int h = 0; h < in.ncouplings; ++h) {  // the hands' forces add up on their links

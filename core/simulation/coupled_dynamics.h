@@ -19,6 +19,7 @@
 #include "core/contact/contact_detection.h"
 #include "core/contact/contact_solver.h"
 #include "core/dynamics/external_force.h"
+#include "core/integrate/free_body_motion.h"
 #include "core/scene/scene.h"
 #include "core/simulation/joint_limits.h"
 
@@ -155,6 +156,7 @@ class CoupledDynamics {
     void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position) {
       d_.constrain(v0, h, factored, v, v_position);
     }
+    FreeBodyMotion* freeBodies() { return &d_.free_bodies_; }
 
    private:
     CoupledDynamics& d_;
@@ -173,6 +175,7 @@ class CoupledDynamics {
   JointLimits limits_;
   std::vector<DofRange> floating_;  // floating joints: never driven
   const ContactModel* contacts_ = nullptr;
+  FreeBodyMotion free_bodies_;  // the free bodies' own step (a hand's: the integrators')
   bool applied_acceleration_ = false;
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactSolver> solver_;
