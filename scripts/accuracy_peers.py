@@ -482,9 +482,9 @@ def main():
                         e = [float("inf")] * 7 + [[]]
                     else:
                         e = errors(case, qs, vs, tq, tv)
-                    csv.write(f"{name},{method},{h * 1e3:.10g}," + ",".join(f"{x:.10g}" for x in e[:6]) +
-                              f",{np.median(walls):.6g},{int(diverged)},{len(walls)},{walls.min():.6g},"
-                              f"{walls.max():.6g},{e[6]:.10g}," + ";".join(f"{x:.6g}" for x in e[7]) + "\n")
+                    csv.write(f"{name},{method},{h * 1e3:.17g}," + ",".join(f"{x:.17g}" for x in e[:6]) +
+                              f",{np.median(walls):.17g},{int(diverged)},{len(walls)},{walls.min():.17g},"
+                              f"{walls.max():.17g},{e[6]:.17g}," + ";".join(f"{x:.17g}" for x in e[7]) + "\n")
                     print(f"  {method:20s} h={h * 1e3:8.4f} ms  q_max {e[1]:<10.3g} ee_max {e[2]:<10.3g} "
                           f"energy drift {e[3]:<10.3g} {'DIVERGED' if diverged else ''} "
                           f"{np.median(walls):.3g} s per s")

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The contact section of the accuracy report: each contact case's error
 against its analytic answer beside the run time per simulated second, for
-igms, ODE's dWorldStep and MuJoCo's mj_step, as a table and a work-precision
-plot.
+igms, ODE's dWorldStep and MuJoCo's mj_step (Euler and implicit), as a table
+and a work-precision plot. ODE's scene has no meshes: no ODE row for the mesh.
 
   contact_accuracy_report.py IGMS_ODE.csv MUJOCO.csv OUT_DIR
       IGMS_ODE.csv from igms-accuracy --contact --csv, MUJOCO.csv from
@@ -24,9 +24,12 @@ CASES = [
     ("box_slope", "box on a 20 deg slope, mu 1 (must stick)", "creep after 0.5 s (m/s)"),
     ("sphere_roll", "sphere rolling down 15 deg", "|v(1 s) - (5/7) g sin th| / that"),
     ("ball_bounce", "ball dropped 1 m, e = 0.5", "|apex - e^2 m| / e^2 m"),
+    ("free_top", "free top, 50 rad/s spin, 2 rad/s wobble, 10 s", "|E - E0| / E0"),
+    ("ball_on_mesh", "3 cm ball resting on a mesh cube", "|rest height - r| (m)"),
 ]
 ENGINES = [("igms", "igms", "C0", "o"), ("ode_dworldstep", "ODE dWorldStep", "C1", "s"),
-           ("mujoco_euler", "MuJoCo mj_step (Euler, defaults)", "C2", "^")]
+           ("mujoco_euler", "MuJoCo mj_step (Euler, defaults)", "C2", "^"),
+           ("mujoco_implicit", "MuJoCo mj_step (implicit)", "C3", "v")]
 FLOOR = 1e-18  # errors at round-off are drawn here
 
 
@@ -49,7 +52,7 @@ def main():
           "(igms and ODE from C++, the median of 3 runs; MuJoCo through `mujoco.rollout`, the median of 3). "
           "Made by `scripts/accuracy.sh` (`igms-accuracy --contact`, `scripts/contact_peers.py --accuracy`, "
           "this script).", ""]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    fig, axes = plt.subplots(3, 2, figsize=(11, 12.5))
     for ax, (case, title, measure) in zip(axes.flat, CASES):
         md += [f"## {title}", "", f"error: {measure}", "",
                "| h (ms) | " + " | ".join(f"{label} error | s per s" for _, label, _, _ in ENGINES) + " |",

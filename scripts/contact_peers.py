@@ -8,7 +8,8 @@ Runs in .venv-peers (PyPI mujoco 4.0; scripts/peer_env.sh).
   contact_peers.py --scene ... --out DIR --measure [--json FILE]            also runs them and prints the rows
   contact_peers.py --accuracy CASES --csv FILE [--quick]     MuJoCo on igms-accuracy --contact's cases
       (igms-accuracy --contact --write-cases CASES): each case's error against its analytic answer and
-      mj_step's run time per simulated second (mujoco.rollout, median of 3), h = 0.25 .. 4 ms
+      mj_step's run time per simulated second (mujoco.rollout, median of 3), h = 0.25 .. 4 ms, with its
+      Euler and its implicit integrator
 
 What is translated, and how (MuJoCo's own defaults otherwise: soft contact, solref
 (0.02, 1), pyramidal cone, Newton solver, a 1 ms step):
@@ -18,7 +19,8 @@ What is translated, and how (MuJoCo's own defaults otherwise: soft contact, solr
     becomes position actuators (kp) with joint damping kd (implicit in MuJoCo's Euler, as igms takes
     its PD implicitly); robot geoms touch the rest of the
     world, not each other (igms's self_collision off).
-  free bodies, the ground plane, solid obstacles: the same primitives, masses and poses.
+  free bodies, the ground plane, solid obstacles: the same primitives, masses, inertias and poses; a
+    mesh as a mesh asset, which MuJoCo collides by its convex hull.
   friction: each geom its material's mu (MuJoCo takes the larger of a pair; the scenes here
     use one material per contact pair, so the rule does not matter); restitution has no
     MuJoCo counterpart and is left out.
@@ -64,11 +66,20 @@ def add_shape(body, d, mu, geom_class):
         g = body.add_geom(type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[d["radius"], d["length"] / 2, 0], pos=pos, quat=quat)
     elif kind == "capsule":
         g = body.add_geom(type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[d["radius"], d["length"] / 2, 0], pos=pos, quat=quat)
+    elif kind == "mesh":
+        # MuJoCo collides a mesh by its convex hull.
+        spec = body.spec if hasattr(body, "spec") else None
+        name = "mesh_" + os.path.splitext(os.path.basename(d["file"]))[0] + f"_{id(d)}"
+        MESHES.append((name, d["file"], d.get("scale", [1, 1, 1])))
+        g = body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=name, pos=pos, quat=quat)
     else:
         raise SystemExit(f"contact_peers: shape {kind} is not translated")
     g.friction = [mu, 0.005, 0.0001]
     g.contype, g.conaffinity = geom_class
     return g
+
+
+MESHES = []  # (name, file, scale) the geoms built so far refer to: build() adds them to its spec
 
 
 def fix_inertias(urdf):
@@ -130,6 +141,7 @@ def build(scene_path):
     spec.option.gravity = scene.get("gravity", [0, 0, -9.81])
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_EULER
     world = spec.worldbody
+    MESHES.clear()
     ground = scene.get("ground")
     if ground:
         g = ground if isinstance(ground, dict) else {}
@@ -148,8 +160,18 @@ def build(scene_path):
         d.pop("xyz", None)
         d.pop("rpy", None)
         g = add_shape(body, d, material(scene, b.get("material"))["friction"], (1, 1))
-        if "mass" in b:
+        if "inertia" in b:  # igms: [ixx, iyy, izz, ixy, ixz, iyz] about the centre of mass, body axes
+            body.explicitinertial = True
+            body.mass = b.get("mass", 1.0)
+            body.ipos = [0, 0, 0]
+            i = b["inertia"]
+            body.fullinertia = [i[0], i[1], i[2], i[3], i[4], i[5]]
+            g.mass = 0
+            g.density = 0
+        elif "mass" in b:
             g.mass = b["mass"]
+    for name, path, scale in MESHES:
+        spec.add_mesh(name=name, file=os.path.normpath(os.path.join(scene_dir, path)), scale=scale)
     actuated = []
     controller = scene.get("controller") or {}
     if robot and controller.get("kind") == "pd":
@@ -235,10 +257,18 @@ def measure(scene, model, seconds):
 
 
 G = 9.81
+# MuJoCo's integrators each case runs with: Euler (its default: Coriolis and gyroscopic terms explicit)
+# and implicit (their derivatives in the step's matrix).
+INTEGRATORS = [("mujoco_euler", mujoco.mjtIntegrator.mjINT_EULER), ("mujoco_implicit", mujoco.mjtIntegrator.mjINT_IMPLICIT)]
 
 
-def case_error(name, t, pos, vel):
-    """The error igms-accuracy --contact measures (tools/accuracy/contact_accuracy.cc), on MuJoCo's run."""
+def case_error(name, t, pos, vel, angvel):
+    """The error igms-accuracy --contact measures (tools/accuracy/contact_accuracy.cc), on MuJoCo's run
+    (angvel: the free joint's, in the body frame)."""
+    if name == "free_top":  # I (1, 1, 0.3), w (2, 0, 50): 377 J
+        w, v = angvel[-1], vel[-1]
+        energy = 0.5 * (w[0] ** 2 + w[1] ** 2 + 0.3 * w[2] ** 2) + 0.5 * float(v @ v)
+        return abs(energy - 377.0) / 377.0
     if name == "box_slide":
         return abs(pos[-1, 0] - 1.0 / (2 * 0.5 * G))
     if name == "box_slope":
@@ -247,6 +277,8 @@ def case_error(name, t, pos, vel):
     if name == "sphere_roll":
         a = 5.0 / 7.0 * G * math.sin(math.radians(15))
         return abs(np.linalg.norm(vel[-1]) - a) / a
+    if name == "ball_on_mesh":
+        return abs(pos[-1, 2] - (0.4 + 0.03))
     if name == "ball_bounce":
         up = np.nonzero(vel[:, 2] > 0)[0]
         if len(up) == 0:
@@ -270,8 +302,9 @@ def accuracy(cases_dir, csv_path, quick):
         path = os.path.join(cases_dir, name + ".yaml")
         seconds, unit = case["seconds"], case["unit"]
         scene, spec, model = build(path)
-        for h in steps:
+        for h, (engine, integrator) in ((h, e) for h in steps for e in INTEGRATORS):
             model.opt.timestep = h
+            model.opt.integrator = integrator
             data = mujoco.MjData(model)
             mujoco.mj_resetDataKeyframe(model, data, 0)
             mujoco.mj_forward(model, data)
@@ -288,11 +321,12 @@ def accuracy(cases_dir, csv_path, quick):
             t = traj[:, 0]
             pos = traj[:, 1:4]
             vel = traj[:, 1 + model.nq:1 + model.nq + 3]
+            angvel = traj[:, 1 + model.nq + 3:1 + model.nq + 6]
             failed = not np.all(np.isfinite(traj))
-            err = float("nan") if failed else case_error(name, t, pos, vel)
+            err = float("nan") if failed else case_error(name, t, pos, vel, angvel)
             cost = sorted(walls)[len(walls) // 2] / seconds
-            rows.append(f"{name},mujoco_euler,{h * 1e3:g},{err:.10g},{unit},{cost:.10g},{int(failed)}")
-            print(f"  {name:12s} mujoco_euler h={h * 1e3:6.3f} ms  error {err:<10.3g} {unit}  {cost:.3g} s per s")
+            rows.append(f"{name},{engine},{h * 1e3:.17g},{err:.17g},{unit},{cost:.17g},{int(failed)}")
+            print(f"  {name:12s} {engine:15s} h={h * 1e3:6.3f} ms  error {err:<10.3g} {unit}  {cost:.3g} s per s")
     with open(csv_path, "w") as f:
         f.write("\n".join(rows) + "\n")
 

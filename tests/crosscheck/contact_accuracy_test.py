@@ -7,11 +7,13 @@ its cases written for MuJoCo, scripts/contact_peers.py --accuracy in
   - igms and ODE, both first-order steppers with hard Coulomb contact, stop the
     sliding box at the same place (1e-6 m) at every step, and that place is
     h v0 / 2 short of the analytic stop;
-  - the box on the slope: igms does not creep (1e-12 m/s) at any step, MuJoCo's
-    regularised friction does (above 1e-4 m/s: its 1.85 mm/s is quoted in
-    docs/environment.md);
-  - every engine has a row for every case and step; the report has its four
-    sections and its plot.
+  - the box on the slope: igms does not creep (1e-12 m/s) at any step (MuJoCo's
+    regularised friction does: its creep is printed, 1.85 mm/s, quoted in
+    docs/environment.md, but a test of igms does not assert what MuJoCo does);
+  - the free top keeps its energy (1e-9 relative over 10 s) and the ball rests on
+    the mesh cube at its height (1e-6 m), at every step;
+  - every engine has a row for every case and step (ODE has no mesh: none for
+    ball_on_mesh); the report has its six sections and its plot.
 Usage: contact_accuracy_test.py BUILD_DIR SOURCE_DIR"""
 import csv
 import os
@@ -51,9 +53,20 @@ with tempfile.TemporaryDirectory() as tmp:
         check(abs(a - 0.5 * h * 1e-3) < 2e-6, f"box_slide at {h} ms: igms lags by h v0 / 2 ({a:.6e})")
         c = err("box_slope", "igms", h)
         check(c < 1e-12, f"box_slope at {h} ms: igms creeps {c:.3e} m/s")
-        m = err("box_slope", "mujoco_euler", h)
-        check(m > 1e-4, f"box_slope at {h} ms: MuJoCo creeps {m:.3e} m/s (regularised friction)")
+        print(f"     box_slope at {h} ms: MuJoCo creeps {err('box_slope', 'mujoco_euler', h):.3e} m/s "
+              "(regularised friction; MuJoCo's, reported, not asserted)")
     md = open(os.path.join(out, "contact.md")).read()
-    check(md.count("\n## ") == 4, "the report has its four cases")
+    check(md.count("\n## ") == 6, "the report has its six cases")
+    for engine in ["igms", "mujoco_euler", "mujoco_implicit"]:
+        for case in ["free_top", "ball_on_mesh"]:
+            n = sum(1 for r in rows if r["case"] == case and r["engine"] == engine)
+            check(n == 3, f"{case}: {engine} has 3 rows ({n})")
+    for h in (0.5, 1.0, 2.0):
+        top = err("free_top", "igms", h)
+        check(top < 1e-9, f"free_top at {h} ms: igms keeps the energy to {top:.2e} (the goal: 1e-3)")
+        mesh = err("ball_on_mesh", "igms", h)
+        check(mesh < 1e-6, f"ball_on_mesh at {h} ms: igms rests {mesh:.2e} m from its height (the goal: 1e-4)")
+        print(f"     free_top at {h} ms: MuJoCo Euler {err('free_top', 'mujoco_euler', h):.3g}, implicit "
+              f"{err('free_top', 'mujoco_implicit', h):.3g}; ball_on_mesh: MuJoCo {err('ball_on_mesh', 'mujoco_euler', h):.3g} m")
     check(os.path.getsize(os.path.join(out, "contact_work_precision.png")) > 10000, "the plot is drawn")
 suite.finish("contact_accuracy_test")

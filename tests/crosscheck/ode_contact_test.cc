@@ -3,10 +3,11 @@
 // of free bodies (tools/ode_ref/ode_contact_scene.h: dContactApprox1, fdir1 along
 // the slip, ERP 0.2 and CFM 1e-10 set). Both are first-order time steppers with
 // hard Coulomb contact, so at the same step they should agree closely:
-//   the sliding box's x(t) within 1e-3 of its travel, a diagonal launch as far;
-//   the box on the 20 deg slope sticks in both;
-//   the ball's rebound (e = 0.5) and the sphere rolling down 15 deg.
-// What ODE does differently is reported (its pyramid, its impact time).
+//   the sliding box's x(t) within 1e-9 m step for step (6e-11 m here), a diagonal launch as far;
+//   the box on the 20 deg slope: igms sticks (1e-12 m/s);
+//   the ball's rebound (e = 0.5) within 3 %, the sphere rolling down 15 deg within 1e-6.
+// What ODE does differently is reported, not asserted (its creep, its impact time): these tests are
+// igms's, with ODE as the reference.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,7 +56,7 @@ TEST(OdeContact, TheSlidingBoxFollowsOdesPathAndStopsWhereItDoes) {
   const double travel = igmsPosition(sim, 0).x();
   std::printf("sliding box: igms stops at %.6f mm, ODE at %.6f mm; x(t) apart by %.2e m at most (%.2e of the travel)\n",
               1e3 * travel, 1e3 * ode.pose(0).p.x(), worst, worst / travel);
-  EXPECT_LT(worst, 1e-3 * travel);
+  EXPECT_LT(worst, 1e-9) << "the same Coulomb deceleration, step for step (6e-11 m apart here)";
 }
 
 TEST(OdeContact, ADiagonalSlideGoesAsFarInBoth) {
@@ -68,7 +69,8 @@ TEST(OdeContact, ADiagonalSlideGoesAsFarInBoth) {
   std::printf("diagonal slide: igms %.6f mm along (%.2e across), ODE %.6f mm along (%.2e across)\n",
               1e3 * std::hypot(a.x(), a.y()), std::abs(a.x() - a.y()), 1e3 * std::hypot(b.x(), b.y()),
               std::abs(b.x() - b.y()));
-  EXPECT_NEAR(std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), 1e-3 * std::hypot(a.x(), a.y()));
+  EXPECT_NEAR(std::hypot(a.x(), a.y()), std::hypot(b.x(), b.y()), 1e-9) << "fdir1 along the slip: ODE's pyramid is isotropic here";
+  EXPECT_LT(std::abs(a.x() - a.y()), 1e-9) << "igms slides straight";
 }
 
 TEST(OdeContact, TheBoxOnTheSlopeSticksInBoth) {
@@ -80,8 +82,7 @@ TEST(OdeContact, TheBoxOnTheSlopeSticksInBoth) {
   stepBoth(sim, ode, 5000);
   const double creep_igms = (igmsPosition(sim, 0) - a0).norm() / 5.0, creep_ode = (ode.pose(0).p - b0).norm() / 5.0;
   std::printf("box on 20 deg, mu 1, over 5 s: igms creeps %.2e m/s, ODE %.2e m/s\n", creep_igms, creep_ode);
-  EXPECT_LT(creep_igms, 1e-6);
-  EXPECT_LT(creep_ode, 1e-5) << "ODE's LCP sticks too (its ERP correction aside)";
+  EXPECT_LT(creep_igms, 1e-12) << "a true stick (1e-18 m/s here); ODE's creep is printed, not asserted: it is ODE's";
 }
 
 TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
@@ -115,10 +116,10 @@ TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
     stepBoth(sim, ode, 1000);
     const double expected = 5.0 / 7.0 * g * std::sin(theta);
     const double a_igms = igmsVelocity(sim, 0).norm(), a_ode = ode.velocity(0).norm();
-    std::printf("sphere rolling down 15 deg, after 1 s: igms %.6f m/s, ODE %.6f m/s (analytic %.6f)\n", a_igms, a_ode,
-                expected);
+    std::printf("sphere rolling down 15 deg, after 1 s: igms %.9f m/s, ODE %.9f m/s (analytic %.9f), apart %.2e\n",
+                a_igms, a_ode, expected, std::abs(a_ode / a_igms - 1.0));
     EXPECT_NEAR(a_igms, expected, 5.5e-4 * expected);
-    EXPECT_NEAR(a_ode, a_igms, 1e-2 * a_igms);
+    EXPECT_NEAR(a_ode, a_igms, 1e-6 * a_igms) << "1e-11 apart here";
   }
 }
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 
+#include "core/cli/round_trip.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "tools/ode_ref/ode_contact_scene.h"
@@ -18,9 +19,11 @@ namespace {
 constexpr double kG = 9.81;
 const double kTheta20 = 20.0 * M_PI / 180.0, kTheta15 = 15.0 * M_PI / 180.0;
 
-// One body's world position and velocity, whichever engine moves it.
+// One body's world pose and velocity, whichever engine moves it.
 struct Sample {
   Vector3 p, v;
+  Matrix3 R = Matrix3::Identity();
+  Vector3 w = Vector3::Zero();  // angular velocity, world
 };
 
 // An engine stepping one case's scene: igms's Simulation or ODE's dWorldStep.
@@ -37,7 +40,7 @@ class IgmsEngine : public Engine {
   bool step() override { return sim_.step(nullptr); }
   Sample body() const override {
     const FreeBodyState b = freeBodyState(sim_.model().parts.front(), sim_.q(), sim_.v());
-    return {b.p, b.v};
+    return {b.p, b.v, b.R, b.w};
   }
 
  private:
@@ -51,7 +54,10 @@ class OdeEngine : public Engine {
     ode_.step(h_);
     return std::isfinite(ode_.pose(0).p.x());
   }
-  Sample body() const override { return {ode_.pose(0).p, ode_.velocity(0)}; }
+  Sample body() const override {
+    const SE3 pose = ode_.pose(0);
+    return {pose.p, ode_.velocity(0), pose.R, ode_.angularVelocity(0)};
+  }
 
  private:
   OdeContactScene ode_;
@@ -64,7 +70,7 @@ class Measurement {
   explicit Measurement(const std::string& name) : name_(name) {}
 
   void observe(double t, const Sample& b) {
-    if (name_ == "box_slide" || name_ == "sphere_roll") {
+    if (name_ == "box_slide" || name_ == "sphere_roll" || name_ == "free_top" || name_ == "ball_on_mesh") {
       last_ = b;
     } else if (name_ == "box_slope") {
       if (t <= 0.5 + 1e-9) from_ = b.p;
@@ -81,6 +87,12 @@ class Measurement {
   double error() const {
     if (name_ == "box_slide") return std::abs(last_.p.x() - 1.0 / (2.0 * 0.5 * kG));  // v0^2 / (2 mu g)
     if (name_ == "box_slope") return creep_;                                         // the truth is 0
+    if (name_ == "free_top") {  // |E(10 s) - E(0)| / E(0): I = (1, 1, 0.3), w = (2, 0, 50), 377 J
+      const Vector3 w = last_.R.transpose() * last_.w;
+      const double energy = 0.5 * (w.x() * w.x() + w.y() * w.y() + 0.3 * w.z() * w.z()) + 0.5 * last_.v.squaredNorm();
+      return std::abs(energy - 377.0) / 377.0;
+    }
+    if (name_ == "ball_on_mesh") return std::abs(last_.p.z() - (0.4 + 0.03));  // on the cube's top, r above it
     if (name_ == "sphere_roll") {
       const double a = 5.0 / 7.0 * kG * std::sin(kTheta15);  // from rest, rolling without slip, at 1 s
       return std::abs(last_.v.norm() - a) / a;
@@ -130,7 +142,7 @@ RunResult runOnce(const ContactCase& c, bool ode, double h) {
 
 }  // namespace
 
-std::vector<ContactCase> contactCases() {
+std::vector<ContactCase> contactCases(const std::string& source_dir) {
   char slope[640], roll[640];
   std::snprintf(slope, sizeof slope,
                 "name: box_slope\nground: {height: 0, rpy: [0, %.17g, 0], material: rough}\n"
@@ -155,11 +167,21 @@ std::vector<ContactCase> contactCases() {
        "name: ball_bounce\nground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, restitution: 0.5}}\n"
        "bodies: [{name: ball, shape: sphere, radius: 0.05, mass: 0.2, xyz: [0, 0, 1.05], material: m}]\n",
        "a ball dropped 1 m, e = 0.5: |apex - e^2 m| relative", "1", 1.6, 0.01},
+      {"free_top",
+       "name: free_top\ngravity: [0, 0, 0]\nground: {height: -5}\n"
+       "bodies: [{name: top, shape: cylinder, radius: 0.2, length: 0.05, mass: 1, inertia: [1, 1, 0.3, 0, 0, 0], "
+       "w: [2, 0, 50]}]\n",
+       "a free top, I (1, 1, 0.3), 50 rad/s spin and 2 rad/s wobble, 10 s: |E - E0| / E0", "1", 10.0, 1e-3},
+      {"ball_on_mesh",
+       "name: ball_on_mesh\nobstacles: [{name: block, shape: mesh, file: " + source_dir +
+           "/models/meshes/cube.obj, xyz: [0, 0, 0.2], solid: true}]\n"
+           "bodies: [{name: ball, shape: sphere, radius: 0.03, mass: 1, xyz: [0.01, 0.02, 0.432]}]\n",
+       "a 3 cm ball released 2 mm above a mesh cube: |rest height - r| after 1 s", "m", 1.0, 1e-4, false},
   };
 }
 
 int contactAccuracy(const ContactAccuracyOptions& o) {
-  const std::vector<ContactCase> cases = contactCases();
+  const std::vector<ContactCase> cases = contactCases(o.source_dir);
   if (!o.write_cases.empty()) {
     std::filesystem::create_directories(o.write_cases);
     // The scenes, and what the peer needs to run and measure them alike: each case's duration and unit.
@@ -178,12 +200,13 @@ int contactAccuracy(const ContactAccuracyOptions& o) {
   std::vector<double> steps;
   for (double h = o.quick ? 0.5e-3 : 0.25e-3; h <= (o.quick ? 2e-3 : 4e-3) * 1.0001; h *= 2) steps.push_back(h);
   std::ofstream out(o.csv.empty() ? "/dev/null" : o.csv);
-  out.precision(10);
+  cli::roundTripDigits(out);
   out << "case,engine,h_ms,error,unit,wall_s_per_sim_s,failed\n";
   int status = 0;
   for (const ContactCase& c : cases) {
     std::printf("%s: %s [%s], %.2f s\n", c.name.c_str(), c.measure.c_str(), c.unit.c_str(), c.seconds);
     for (const bool ode : {false, true}) {
+      if (ode && !c.ode) continue;
       const char* engine = ode ? "ode_dworldstep" : "igms";
       for (double h : steps) {
         const RunResult r = runOnce(c, ode, h);

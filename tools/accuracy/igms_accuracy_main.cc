@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/cli/command_line.h"
+#include "core/cli/round_trip.h"
 #include "tools/accuracy/accuracy.h"
 #include "tools/accuracy/contact_accuracy.h"
 #include "tools/accuracy/ensemble.h"
@@ -50,7 +51,7 @@ int stiffnessTable(const Options& o) {
   const std::vector<double> zetas = {0.0, 0.1, 1.0};
   const char* names[3] = {"semi_implicit_euler", "rk4", "linearly_implicit"};
   std::ofstream out(o.csv.empty() ? "/dev/null" : o.csv);
-  out.precision(10);
+  igms::cli::roundTripDigits(out);
   out << "k_h2_m,zeta,semi_implicit_euler,rk4,linearly_implicit,linearly_implicit_theory\n";
   std::printf("amplitude factor per step (spectral radius of one step; > 1: unstable), 0.1 kg at 1 ms\n");
   std::printf("%9s %9s %5s  %-14s %-14s %-14s %s\n", "k h^2/m", "k (N/m)", "zeta", names[0], names[1], names[2],
@@ -186,7 +187,7 @@ int main(int argc, char** argv) {
                  "engines, and exit")->check(CLI::ExistingDirectory);
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   if (o.stiffness) return stiffnessTable(o);
-  if (o.contact) return contactAccuracy({o.quick, o.repeats, o.csv, o.write_cases});
+  if (o.contact) return contactAccuracy({o.quick, o.repeats, o.csv, o.write_cases, IGMS_SOURCE_DIR});
   if (o.extreme) return extremeTable(o);
   std::vector<std::string> names;
   if (o.which == "free" || o.which == "all") names = caseNames();
@@ -205,15 +206,15 @@ int main(int argc, char** argv) {
   out << "case,method,h_ms,q_rms,q_max,ee_max,energy_drift,linear_momentum_drift,angular_momentum_drift,"
          "wall_s_per_sim_s,diverged,timing_runs,wall_s_per_sim_s_min,wall_s_per_sim_s_max,energy_rate_w,"
          "q_max_per_joint\n";
-  out.precision(10);
+  igms::cli::roundTripDigits(out);
   std::ofstream truths(o.truth_csv.empty() ? "/dev/null" : o.truth_csv);
   truths << "case,reference,reference_self_check_q_max,igms_truth_halving_q_max,igms_truth_vs_reference_q_max,"
             "igms_truth_vs_reference_ee_max,k_h2_over_m_at_1ms,truth_energy_rate_w\n";
-  truths.precision(6);
+  igms::cli::roundTripDigits(truths);
   for (const auto& name : names) sweepCase(name, o, steps, out, truths);
   if (o.ensemble > 0) {
     std::ofstream ens(o.ensemble_csv.empty() ? "/dev/null" : o.ensemble_csv);
-    ens.precision(6);
+    igms::cli::roundTripDigits(ens);
     ens << "case,method,h_ms,starts,diverged";
     for (const char* f : {"q_max", "q_rms", "ee_max", "energy_drift", "energy_rate_w"})
       ens << "," << f << "_median," << f << "_min," << f << "_max";

@@ -32,6 +32,7 @@
 #include "bus/signed_publisher.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
+#include "core/cli/round_trip.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/model/environment_model.h"
 #include "core/model_io/zlib_text.h"
@@ -253,9 +254,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
     std::fprintf(stderr, "igms-replay: cannot write to %s\n", dir.c_str());
     return 2;
   }
-  states.precision(17);
-  inputs.precision(17);
-  hands.precision(17);
+  for (std::ofstream* f : {&states, &inputs, &client, &server, &hands}) igms::cli::roundTripDigits(*f);
   // Every file starts with its header (states.csv's depends on the robot: written with its first row).
   inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link,client\n";
   client << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
@@ -375,7 +374,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
     if (watched) {
       if (!obstacles_header) {
         obstacles.open(dir + "/obstacles.csv");
-        obstacles.precision(17);
+        igms::cli::roundTripDigits(obstacles);
         obstacles << "t,step";
         for (const igms::Obstacle& o : scene_obstacles) {
           if (o.solid) continue;  // touched through contact, not watched (the states' distance leaves it out too)
@@ -394,7 +393,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
     if (!sim.hasContacts() && sim.model().parts.size() < 2) return;
     if (!env_header) {
       env.open(dir + "/environment.csv");
-      env.precision(17);
+      igms::cli::roundTripDigits(env);
       env << "t,step";
       for (const std::string& n : igms::coordinateNames(sim.model())) env << "," << n;
       env << ",contacts,max_penetration,robot_body_contacts\n";

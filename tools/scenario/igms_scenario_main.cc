@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/cli/command_line.h"
+#include "core/cli/round_trip.h"
 #include "tools/scenario/scenario_run.h"
 
 namespace {
@@ -47,6 +48,7 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
 void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
+  igms::cli::roundTripDigits(f);
   f << "t,mode,ee_x,ee_y,ee_z,fx,fy,fz,min_distance,in_collision";
   for (const std::string& c : r.q_columns) f << "," << c;
   f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z\n";
