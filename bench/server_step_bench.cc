@@ -5,7 +5,8 @@
 // runs beside the step on the publishing thread. Then one tip-link query on
 // each Panda collision mesh (the push's contact: distance, normal, point), at
 // random tips within 12 mm of the surface, against FCL's exact point-to-mesh
-// distance on the same triangles in the same run.
+// distance on the same triangles in the same run. Also the contact detection alone on the mesh scenes
+// (panda_channel, ball_on_mesh).
 //   igms-step-bench [--quick] [--only TEXT] [--steps N]
 #include <algorithm>
 #include <chrono>
@@ -21,7 +22,9 @@
 #include "core/cli/command_line.h"
 #include "core/geometry/tip_contact.h"
 #include "server/collision/collision_world.h"
+#include "core/contact/contact_detection.h"
 #include "core/geometry/deepest_contact.h"
+#include "core/kinematics/forward_kinematics.h"
 #include "core/simulation/simulation.h"
 
 namespace {
@@ -245,6 +248,35 @@ int main(int argc, char** argv) {
       const int steps = std::string(file) == "sphere_pile.yaml" || std::string(file) == "box_tower.yaml" ? n / 10 : n;
       auto us = timeSteps(sim, nullptr, steps);
       report(label, us);
+    } catch (const std::exception& e) {
+      std::printf("%-62s skipped: %s\n", label, e.what());
+    }
+  }
+  // Contact detection alone on meshes: the scene stepped, and at each step's state the detection timed by
+  // itself (its own Data and ContactDetection on the scene's contact model).
+  for (const auto& [file, label] : std::vector<std::pair<const char*, const char*>>{
+           {"panda_channel.yaml", "contact detection: Panda meshes pressed into a mesh channel"},
+           {"ball_on_mesh.yaml", "contact detection: balls on a mesh cube and in a mesh bowl"}}) {
+    if (!wanted(label)) continue;
+    try {
+      Simulation sim(loadScene(dir + file));
+      for (int k = 0; k < 1000; ++k) sim.step(nullptr);  // pressed in, settled
+      Data data(sim.model());
+      ContactDetection detection(*sim.contactModel());
+      ContactSet set(sim.contactModel()->capacity());
+      std::vector<double> us;
+      int points = 0;
+      for (int k = 0; k < n; ++k) {
+        sim.step(nullptr);
+        bodyKinematics(sim.model(), data, sim.q());
+        const auto t0 = Clock::now();
+        detection.detect(data, set);
+        us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        points = std::max(points, set.n);
+      }
+      char what[160];
+      std::snprintf(what, sizeof what, "%s (%d points)", label, points);
+      report(what, us);
     } catch (const std::exception& e) {
       std::printf("%-62s skipped: %s\n", label, e.what());
     }

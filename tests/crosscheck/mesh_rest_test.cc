@@ -51,7 +51,7 @@ Probe probeOf(const CollisionShape& s) {
     p.points.push_back(s.placement.act(x));  // in the body frame
     p.radius.push_back(r);
   };
-  const int n = 24;
+  const int n = 12;
   switch (s.kind) {
     case CollisionShape::Kind::Sphere: add(Vector3::Zero(), s.size[0]); break;
     case CollisionShape::Kind::Capsule:
