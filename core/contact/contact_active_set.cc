@@ -1,0 +1,320 @@
+#include "core/contact/contact_active_set.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+
+namespace igms {
+
+ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
+    : island_(static_cast<size_t>(capacity)),
+      queue_(static_cast<size_t>(capacity)),
+      members_(static_cast<size_t>(capacity)),
+      stamp_(static_cast<size_t>(capacity)),
+      zt_(VectorX::Zero(model.nv)),
+      M_(kPolishRows, kPolishRows),
+      rhs_(kPolishRows),
+      x_(kPolishRows),
+      pivot_(kPolishRows),
+      cache_first_(static_cast<size_t>(capacity)),
+      cache_count_(static_cast<size_t>(capacity)),
+      cache_group_(kCachedCouplings),
+      cache_block_(kCachedCouplings) {}
+
+bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
+  const int ng = rows.size();
+  // Islands: pairs joined through the trees they share (breadth-first over each tree's groups).
+  for (int g = 0; g < ng; ++g) {
+    island_[static_cast<size_t>(g)] = -1;
+    stamp_[static_cast<size_t>(g)] = -1;
+  }
+  bool all = true;
+  rounds_ = 0;
+  for (int seed = 0; seed < ng; ++seed) {
+    if (island_[static_cast<size_t>(seed)] >= 0) continue;
+    int head = 0, tail = 0, n = 0;
+    queue_[static_cast<size_t>(tail++)] = seed;
+    island_[static_cast<size_t>(seed)] = seed;
+    while (head < tail) {
+      const int g = queue_[static_cast<size_t>(head++)];
+      members_[static_cast<size_t>(n++)] = g;
+      const ContactGroup& G = rows.group(g);
+      for (const int t : {G.tree_a, G.tree_b}) {
+        if (t < 0) continue;
+        for (int k = 0; k < rows.treeGroups(t); ++k) {
+          const int h = rows.treeGroup(t, k);
+          if (island_[static_cast<size_t>(h)] < 0) {
+            island_[static_cast<size_t>(h)] = seed;
+            queue_[static_cast<size_t>(tail++)] = h;
+          }
+        }
+      }
+    }
+    std::sort(members_.begin(), members_.begin() + n);  // a fixed order for the unknowns
+    all = polishIsland(rows, n, tolerance) && all;
+  }
+  if (all) {  // z for the polished impulses
+    for (int g = 0; g < ng; ++g) rows.clear(rows.group(g), z);
+    for (int g = 0; g < ng; ++g) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
+  }
+  return all;
+}
+
+// LU with partial pivoting of M_'s top-left nx x nx in place, then the two triangular solves, on x_.
+bool ContactActiveSet::luSolve(int nx) {
+  auto M = M_.topLeftCorner(nx, nx);
+  for (int k = 0; k < nx; ++k) {
+    int p = k;
+    for (int i = k + 1; i < nx; ++i)
+      if (std::abs(M(i, k)) > std::abs(M(p, k))) p = i;
+    if (!(std::abs(M(p, k)) > 0.0)) return false;
+    if (p != k) {
+      M.row(k).swap(M.row(p));
+      std::swap(x_[k], x_[p]);
+    }
+    const double d = M(k, k);
+    for (int i = k + 1; i < nx; ++i) {
+      const double f = M(i, k) / d;
+      if (f == 0.0) continue;
+      M.row(i).tail(nx - k - 1) -= f * M.row(k).tail(nx - k - 1);
+      x_[i] -= f * x_[k];
+    }
+  }
+  for (int k = nx - 1; k >= 0; --k) {
+    double x = x_[k];
+    for (int j = k + 1; j < nx; ++j) x -= M(k, j) * x_[j];
+    x_[k] = x / M(k, k);
+  }
+  return true;
+}
+
+// An active-set method on one island: from the sweeps' guess, solve the tight rows exactly; where the
+// answer breaks a condition (a normal pulls, a free point crosses, a sticking friction leaves the cone,
+// a slipping one pushes along its slip), change that row's guess and solve again.
+bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) {
+  constexpr int kRounds = 24;
+  constexpr double kInside = 1.0 - 1e-9;  // strictly inside the cone: sticking
+  auto group = [&](int m) -> ContactGroup& { return rows.group(members_[static_cast<size_t>(m)]); };
+  auto frictionRows = [](const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; };
+  auto scaleOf = [](const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); };
+  // Each other member h coupled to member m (sharing a tree), once: visit(W_mh, h).
+  auto forEachCoupled = [&](int m, auto&& visit) {
+    if (cache_count_[static_cast<size_t>(m)] >= 0) {
+      const int first = cache_first_[static_cast<size_t>(m)];
+      for (int k = first; k < first + cache_count_[static_cast<size_t>(m)]; ++k)
+        visit(cache_block_[static_cast<size_t>(k)], rows.group(cache_group_[static_cast<size_t>(k)]));
+      return;
+    }
+    const ContactGroup& g = group(m);
+    const int me = members_[static_cast<size_t>(m)];
+    for (const int t : {g.tree_a, g.tree_b}) {
+      if (t < 0) continue;
+      for (int k = 0; k < rows.treeGroups(t); ++k) {
+        const int h = rows.treeGroup(t, k);
+        if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
+        stamp_[static_cast<size_t>(h)] = me;
+        rows.coupling(g, rows.group(h), W_);
+        visit(W_, rows.group(h));
+      }
+    }
+    for (const int t : {g.tree_a, g.tree_b})  // unstamp for the next pass
+      if (t >= 0)
+        for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
+  };
+  // The sweeps' guess.
+  for (int m = 0; m < n; ++m) {
+    ContactGroup& g = group(m);
+    const int P = g.points, F = frictionRows(g);
+    double N = 0.0;
+    for (int k = 0; k < P; ++k) {
+      g.active[k] = g.lambda[k] > 0.0;
+      N += std::max(g.lambda[k], 0.0);
+    }
+    const Vector3 scale = scaleOf(g);
+    Vector3 s = Vector3::Zero();
+    for (int f = 0; f < F; ++f) s[f] = g.lambda[P + f] / scale[f];
+    const double cap = g.mu * (g.patch ? N : std::max(g.lambda[0], 0.0));
+    g.sliding = cap > 0.0 && s.norm() >= kInside * cap;
+    std::fill(g.slide, g.slide + kMaxContactRows, 0.0);
+    if (g.sliding)
+      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+  }
+  // An island too large for the dense solve, even as the sweeps left it, is left to them.
+  int rows_guessed = 0;
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = group(m);
+    int active = 0;
+    for (int k = 0; k < g.points; ++k) active += g.active[k];
+    rows_guessed += active + (active > 0 && !g.sliding ? frictionRows(g) : 0);
+  }
+  if (rows_guessed > kPolishRows) return false;
+  // The island's couplings W_mh, each member's to each other it shares a tree with, formed once for
+  // all the rounds (a member past the cache's room forms its own each time it is needed).
+  int cached = 0;
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = group(m);
+    const int me = members_[static_cast<size_t>(m)];
+    cache_first_[static_cast<size_t>(m)] = cached;
+    cache_count_[static_cast<size_t>(m)] = -1;  // not cached
+    int count = 0;
+    bool fits = true;
+    for (const int t : {g.tree_a, g.tree_b}) {
+      if (t < 0) continue;
+      for (int k = 0; k < rows.treeGroups(t) && fits; ++k) {
+        const int h = rows.treeGroup(t, k);
+        if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
+        stamp_[static_cast<size_t>(h)] = me;
+        if (cached + count >= static_cast<int>(cache_block_.size())) {
+          fits = false;
+          break;
+        }
+        cache_group_[static_cast<size_t>(cached + count)] = h;
+        rows.coupling(g, rows.group(h), cache_block_[static_cast<size_t>(cached + count)]);
+        ++count;
+      }
+    }
+    for (const int t : {g.tree_a, g.tree_b})
+      if (t >= 0)
+        for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
+    if (fits) {
+      cache_count_[static_cast<size_t>(m)] = count;
+      cached += count;
+    }
+  }
+  for (int round = 0; round < kRounds; ++round) {
+    ++rounds_;
+    // Unknowns: touching normals, and a sticking friction's rows where its pair has a load.
+    int nx = 0;
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      const int P = g.points, F = frictionRows(g);
+      std::fill(g.unknown, g.unknown + kMaxContactRows, -1);
+      bool loaded = false;
+      for (int k = 0; k < P; ++k)
+        if (g.active[k]) {
+          g.unknown[k] = nx++;
+          loaded = true;
+        }
+      if (!loaded) g.sliding = false;
+      if (loaded && !g.sliding)
+        for (int f = 0; f < F; ++f) g.unknown[P + f] = nx++;
+    }
+    if (nx > kPolishRows) return false;
+    // M x = rhs: each unknown's row u_r = target_r (0 for friction), u = b + sum over the island of W lambda.
+    if (nx > 0) {
+      auto M = M_.topLeftCorner(nx, nx);
+      M.setZero();
+      bool symmetric = true;  // no slipping friction: M is W's rows and columns of the unknowns
+      for (int m = 0; m < n; ++m) {
+        const ContactGroup& g = group(m);
+        symmetric = symmetric && !g.sliding;
+        auto add = [&](const ContactBlock& W, const ContactGroup& h) {
+          for (int r = 0; r < g.rows; ++r) {
+            const int row = g.unknown[r];
+            if (row < 0) continue;
+            for (int c = 0; c < h.rows; ++c) {
+              if (h.unknown[c] >= 0) {
+                M(row, h.unknown[c]) += W(r, c);
+              } else if (h.sliding && h.slide[c] != 0.0) {
+                for (int k = 0; k < h.points; ++k)
+                  if (h.unknown[k] >= 0) M(row, h.unknown[k]) += W(r, c) * h.slide[c];
+              }
+            }
+          }
+        };
+        add(g.W, g);
+        forEachCoupled(m, add);
+        for (int r = 0; r < g.rows; ++r)
+          if (g.unknown[r] >= 0) rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
+      }
+      // Redundant normals (four corners carry three degrees of freedom) make M singular: a small
+      // regularisation picks the even split among them.
+      const double big = M.diagonal().cwiseAbs().maxCoeff();
+      M.diagonal().array() += 1e-12 * big + 1e-300;
+      x_.head(nx) = rhs_.head(nx);
+      if (symmetric) {
+        // Symmetric positive definite: Cholesky, in place (Eigen's blocked LLT on a block of M_ and
+        // in-place triangular solves: nothing allocated), half an LU's work.
+        Eigen::LLT<Eigen::Ref<MatrixX>> llt(M);
+        if (llt.info() != Eigen::Success) return false;
+        llt.matrixL().solveInPlace(x_.head(nx));
+        llt.matrixU().solveInPlace(x_.head(nx));
+      } else if (!luSolve(nx)) {
+        return false;
+      }
+      if (!x_.head(nx).allFinite()) return false;
+    }
+    // The candidate impulses, then the velocities they give.
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      g.trial.setZero();
+      double N = 0.0;
+      for (int k = 0; k < g.points; ++k)
+        if (g.unknown[k] >= 0) N += g.trial[k] = x_[g.unknown[k]];
+      for (int r = g.points; r < g.rows; ++r)
+        g.trial[r] = g.unknown[r] >= 0 ? x_[g.unknown[r]] : (g.sliding ? g.slide[r] * N : 0.0);
+    }
+    for (int m = 0; m < n; ++m) rows.add(group(m), group(m).trial, group(m).rows, zt_);
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      g.trial_u = g.b + rows.velocity(g, zt_, g.rows);
+    }
+    for (int m = 0; m < n; ++m) rows.clear(group(m), zt_);
+    // Check every condition; change the guess of the one that breaks worst (one change a round:
+    // changing every broken one at once can cycle, a pull freed here re-crossing there), measured as
+    // a velocity: a pull by what its impulse would move its point, a crossing by its speed, a friction
+    // outside its cone by how far outside, one slipping along itself by its slip.
+    double worst = 0.0;
+    int worst_group = -1, worst_row = -1;
+    auto candidate = [&](double how_bad, int m, int row) {
+      if (how_bad > worst) {
+        worst = how_bad;
+        worst_group = m;
+        worst_row = row;
+      }
+    };
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      const int P = g.points, F = frictionRows(g);
+      double N = 0.0;
+      for (int k = 0; k < P; ++k) {
+        if (g.active[k] && g.trial[k] < 0.0) candidate(-g.trial[k] * g.W(k, k), m, k);
+        else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
+        N += std::max(g.trial[k], 0.0);
+      }
+      const Vector3 scale = scaleOf(g);
+      Vector3 s = Vector3::Zero(), w = Vector3::Zero();
+      for (int f = 0; f < F; ++f) {
+        s[f] = g.trial[P + f] / scale[f];
+        w[f] = g.trial_u[P + f] * scale[f];
+      }
+      const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
+      if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
+        candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
+      } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {
+        candidate(s.dot(w) / s.norm(), m, P);  // slipping along its friction: it sticks instead
+      }
+    }
+    if (worst_group < 0) {
+      for (int m = 0; m < n; ++m) group(m).lambda = group(m).trial;
+      return true;
+    }
+    ContactGroup& g = group(worst_group);
+    if (worst_row < g.points) {
+      g.active[worst_row] = !g.active[worst_row];
+    } else if (!g.sliding) {  // slip, along the friction the trial found
+      const int P = g.points, F = frictionRows(g);
+      const Vector3 scale = scaleOf(g);
+      Vector3 s = Vector3::Zero();
+      for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
+      g.sliding = true;
+      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+    } else {
+      g.sliding = false;
+    }
+  }
+  return false;
+}
+
+}  // namespace igms

@@ -1,0 +1,45 @@
+// The active-set solve that makes the sweeps' answer exact (contact_sweep.h finds the contact set, this
+// solves it): per island of pairs (those coupled through a tree they share), the rows that are tight
+// (touching normals, sticking frictions; a slipping friction is mu N along its direction) as one dense
+// linear system, kept when it meets every condition; where the answer breaks one, the worst broken
+// row's guess changes and the system is solved again. A stack's load reaches its bottom in one solve
+// where the sweeps need hundreds. Islands of more than kPolishRows unknowns are left to the sweeps.
+#pragma once
+
+#include <vector>
+
+#include "core/contact/contact_rows.h"
+
+namespace igms {
+
+class ContactActiveSet {
+ public:
+  static constexpr int kPolishRows = 192;
+
+  ContactActiveSet(const Model& model, int capacity);
+
+  // Every island from the groups' impulses; on success the impulses are the exact solution of the
+  // active set and z (the accumulator of the impulses) is rebuilt for them. \return all islands did.
+  bool polish(ContactRows& rows, VectorX& z, double tolerance);
+  // The last polish's rounds (dense solves), over its islands.
+  int rounds() const { return rounds_; }
+
+ private:
+  bool polishIsland(ContactRows& rows, int n, double tolerance);  // members_[0 .. n): one island
+  bool luSolve(int nx);
+  std::vector<int> island_, queue_, members_, stamp_;
+  // One round's dense system (its top-left nx x nx of kPolishRows square, allocated once), right side
+  // and solution.
+  MatrixX M_;
+  VectorX rhs_, x_;
+  std::vector<int> pivot_;
+  VectorX zt_;  // the trial impulses' accumulator
+  ContactBlock W_;
+  int rounds_ = 0;
+  // One island's couplings, formed once per solve: member m's are cache_block_[first .. first + count).
+  static constexpr int kCachedCouplings = 2048;
+  std::vector<int> cache_first_, cache_count_, cache_group_;
+  std::vector<ContactBlock> cache_block_;
+};
+
+}  // namespace igms

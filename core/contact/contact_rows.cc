@@ -1,0 +1,301 @@
+#include "core/contact/contact_rows.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/model/ancestor_runs.h"
+
+namespace igms {
+
+namespace {
+
+constexpr double kPatchDepth = 1e-4;  // m: a patch's points this near the deepest carry its friction
+
+// Two unit tangents completing n, a function of n alone.
+void tangents(const Vector3& n, Vector3& t1, Vector3& t2) {
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(n[a]) < std::abs(n[k])) k = a;
+  t1 = n.cross(Vector3::Unit(k)).normalized();
+  t2 = n.cross(t1);
+}
+
+template <typename M>
+M regularisedInverse(const M& W) {
+  const double eps = 1e-10 * W.diagonal().maxCoeff() + 1e-300;
+  return (W + eps * M::Identity()).inverse();
+}
+
+}  // namespace
+
+ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : model_(model), cm_(contacts) {
+  body_chain_.resize(static_cast<size_t>(model.nb));
+  part_of_body_.resize(static_cast<size_t>(model.nb));
+  int deepest = 0;
+  for (int b = 0; b < model.nb; ++b) {
+    std::vector<int>& chain = body_chain_[static_cast<size_t>(b)];
+    for (int j = b; j >= 0; j = model.parent[j])
+      for (int k = model.joint_nv[j] - 1; k >= 0; --k) chain.push_back(model.v_index[j] + k);
+    std::reverse(chain.begin(), chain.end());
+    deepest = std::max(deepest, static_cast<int>(chain.size()));
+    part_of_body_[static_cast<size_t>(b)] = model.partOfBody(b);
+  }
+  const int capacity = contacts.capacity();
+  max_entries_ = 2 * deepest;
+  sign_.resize(static_cast<size_t>(max_entries_));
+  up_.resize(static_cast<size_t>(max_entries_));
+  groups_.resize(static_cast<size_t>(capacity));
+  dof_.resize(static_cast<size_t>(capacity * max_entries_));
+  invD_.resize(dof_.size());
+  J_.resize(static_cast<size_t>(capacity * max_entries_ * kMaxContactRows));
+  X_.resize(J_.size());
+  tree_groups_.assign(model.parts.size(), std::vector<int>(static_cast<size_t>(capacity)));
+  tree_count_.assign(model.parts.size(), 0);
+  tree_touched_.assign(model.parts.size(), 0);
+}
+
+// Each pair's rows: their Jacobian on the pair's chains, X = L^-T J^T there, its own W block, its
+// velocities and targets.
+int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
+                       const VectorX& v) {
+  const int nc = contacts.n;
+  const int nv = model_.nv;
+  const double* const ld = LD.data();
+  const double bounce_velocity = cm_.settings().bounce_velocity;
+  std::fill(tree_count_.begin(), tree_count_.end(), 0);
+  int ng = 0, entry = 0, value = 0;
+  for (int i = 0; i < nc;) {
+    int end = i + 1;
+    while (end < nc && contacts[end].geom_a == contacts[i].geom_a && contacts[end].geom_b == contacts[i].geom_b) ++end;
+    ContactGroup& g = groups_[static_cast<size_t>(ng++)];
+    const Contact& c0 = contacts[i];
+    g.first = i;
+    g.points = end - i;
+    g.patch = g.points > 1;
+    g.rows = g.points + (g.patch ? 3 : 2);
+    g.mu = c0.friction;
+    // The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
+    // within kPatchDepth of the deepest (a lying cylinder's two rim ends, not a rim point above them
+    // that the margin let in: friction there would roll it about the wrong line).
+    double deepest = contacts[i].distance;
+    for (int k = i + 1; k < end; ++k) deepest = std::min(deepest, contacts[k].distance);
+    g.centroid.setZero();
+    Vector3 normal = Vector3::Zero();
+    int touching = 0;
+    for (int k = i; k < end; ++k)
+      if (contacts[k].distance <= deepest + kPatchDepth) {
+        g.centroid += contacts[k].point;
+        normal += contacts[k].normal;
+        ++touching;
+      }
+    g.centroid /= touching;
+    g.n = normal.normalized();
+    tangents(g.n, g.t1, g.t2);
+    g.radius = 0.0;
+    for (int k = i; k < end; ++k)
+      if (contacts[k].distance <= deepest + kPatchDepth) g.radius += (contacts[k].point - g.centroid).norm();
+    g.radius /= touching;
+    // The dofs: the union of both bodies' chains, ascending; each with its side's sign.
+    static const std::vector<int> kNone;
+    const std::vector<int>& ca = c0.body_a >= 0 ? body_chain_[static_cast<size_t>(c0.body_a)] : kNone;
+    const std::vector<int>& cb = c0.body_b >= 0 ? body_chain_[static_cast<size_t>(c0.body_b)] : kNone;
+    g.first_entry = entry;
+    g.first_value = value;
+    double* const sign = sign_.data();  // per entry (both chains: max_entries_ at most)
+    size_t ia = 0, ib = 0;
+    int count = 0;
+    while (ia < ca.size() || ib < cb.size()) {
+      int k;
+      double s;
+      if (ib >= cb.size() || (ia < ca.size() && ca[ia] < cb[ib])) {
+        k = ca[ia++];
+        s = -1.0;
+      } else if (ia >= ca.size() || cb[ib] < ca[ia]) {
+        k = cb[ib++];
+        s = 1.0;
+      } else {
+        // A dof moving both sides (a robot touching itself: the floating base, a common hip) moves the
+        // two points alike, so J is zero there; but A^-1 J^T is not: the reaction reaches every
+        // ancestor, and X = L^-T J^T must run up through it (left out, the robot's momentum changed).
+        k = ca[ia++];
+        ++ib;
+        s = 0.0;
+      }
+      dof_[static_cast<size_t>(entry + count)] = k;
+      invD_[static_cast<size_t>(entry + count)] = 1.0 / ld[static_cast<std::ptrdiff_t>(k) * nv + k];
+      sign[count] = s;
+      ++count;
+    }
+    g.entries = count;
+    // J: a row per normal, then the friction rows (at the point, or the patch's centroid).
+    // Each row as a spatial vector [d; p x d] (the velocity of point p along d is its dot with the
+    // dof's world twist [v; w]); a torsion row [0; n].
+    const int P = g.points;
+    Vector6 row[kMaxContactRows];
+    for (int k = 0; k < P; ++k) row[k] << contacts[i + k].normal, contacts[i + k].point.cross(contacts[i + k].normal);
+    row[P] << g.t1, g.centroid.cross(g.t1);
+    row[P + 1] << g.t2, g.centroid.cross(g.t2);
+    if (g.patch) row[P + 2] << Vector3::Zero(), g.n;
+    for (int e = 0; e < count; ++e) {
+      const Eigen::Map<const Vector6> S(data.S_world.col(dof_[static_cast<size_t>(entry + e)]).data());
+      double* const J = J_.data() + value;
+      for (int r = 0; r < g.rows; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
+    }
+    // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
+    // upward), found below it in the ascending list; from the last entry down, each passes its value
+    // up its chain.
+    int* const up = up_.data();
+    for (int e = 0; e < count; ++e) {
+      const int parent = model_.dof_parent[dof_[static_cast<size_t>(entry + e)]];
+      int a = e - 1;
+      while (a >= 0 && dof_[static_cast<size_t>(entry + a)] != parent) --a;
+      up[e] = parent < 0 ? -1 : a;
+    }
+    std::copy(J_.begin() + value, J_.begin() + value + g.rows * count, X_.begin() + value);
+    for (int e = count - 1; e >= 0; --e) {
+      const double* const lk = ld + static_cast<std::ptrdiff_t>(dof_[static_cast<size_t>(entry + e)]) * nv;
+      for (int r = 0; r < g.rows; ++r) {
+        double* const X = X_.data() + value + r * count;
+        const double xk = X[e];
+        if (xk == 0.0) continue;
+        for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(entry + a)]] * xk;
+      }
+    }
+    g.W.setZero();
+    for (int r = 0; r < g.rows; ++r)
+      for (int s = r; s < g.rows; ++s) {
+        const double* const xr = X_.data() + value + r * count;
+        const double* const xs = X_.data() + value + s * count;
+        double w = 0.0;
+        for (int e = 0; e < count; ++e) w += xr[e] * xs[e] * invD_[static_cast<size_t>(entry + e)];
+        g.W(r, s) = g.W(s, r) = w;
+      }
+    if (g.patch) {
+      const Eigen::Matrix3d F = g.W.block<3, 3>(P, P);
+      g.friction_inverse = regularisedInverse(F);
+      const Vector3 scale(1.0, 1.0, g.radius);
+      const Eigen::Matrix3d Fs = scale.asDiagonal() * F * scale.asDiagonal();
+      g.friction_step = 1.0 / (Fs.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300);
+    } else {
+      g.friction_inverse = regularisedInverse(Eigen::Matrix3d(g.W.block<3, 3>(0, 0)));
+      const double a = g.W(1, 1), b = g.W(1, 2), d = g.W(2, 2);
+      g.friction_step = 1.0 / (0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b) + 1e-300);
+    }
+    // Velocities and targets.
+    g.b.setZero();
+    g.target.setZero();
+    g.sigma.setZero();
+    for (int r = 0; r < g.rows; ++r) {
+      const double* const J = J_.data() + value + r * count;
+      double b = 0.0;
+      for (int e = 0; e < count; ++e) b += J[e] * v[dof_[static_cast<size_t>(entry + e)]];
+      g.b[r] = b;
+    }
+    for (int k = 0; k < P; ++k) {
+      const Contact& c = contacts[i + k];
+      const double* const J = J_.data() + value + k * count;
+      double u0 = 0.0;
+      for (int e = 0; e < count; ++e) u0 += J[e] * v0[dof_[static_cast<size_t>(entry + e)]];
+      g.approach[k] = -u0;
+      // An impact that bounces: fast enough, and it reaches the surface within this step.
+      g.bounce[k] = c.restitution > 0.0 && g.approach[k] > bounce_velocity && c.distance + h * g.b[k] < 0.0;
+      g.target[k] = g.bounce[k] ? c.restitution * g.approach[k] : -std::max(c.distance, 0.0) / h;
+    }
+    g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
+    g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
+    const int me = ng - 1;
+    if (g.tree_a >= 0) tree_groups_[static_cast<size_t>(g.tree_a)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_a)]++)] = me;
+    if (g.tree_b >= 0 && g.tree_b != g.tree_a)
+      tree_groups_[static_cast<size_t>(g.tree_b)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_b)]++)] = me;
+    entry += count;
+    value += g.rows * count;
+    i = end;
+  }
+  ngroups_ = ng;
+  return ng;
+}
+
+void ContactRows::add(const ContactGroup& g, const ContactRowVector& delta, int rows, VectorX& z) const {
+  const int* const dof = dof_.data() + g.first_entry;
+  const double* const invD = invD_.data() + g.first_entry;
+  for (int r = 0; r < rows; ++r) {
+    const double d = delta[r];
+    if (d == 0.0) continue;
+    const double* const X = X_.data() + g.first_value + r * g.entries;
+    for (int e = 0; e < g.entries; ++e) z[dof[e]] += invD[e] * X[e] * d;
+  }
+}
+
+ContactRowVector ContactRows::velocity(const ContactGroup& g, const VectorX& z, int rows) const {
+  ContactRowVector u = ContactRowVector::Zero();
+  const int* const dof = dof_.data() + g.first_entry;
+  for (int r = 0; r < rows; ++r) {
+    const double* const X = X_.data() + g.first_value + r * g.entries;
+    double s = 0.0;
+    for (int e = 0; e < g.entries; ++e) s += X[e] * z[dof[e]];
+    u[r] = s;
+  }
+  return u;
+}
+
+void ContactRows::clear(const ContactGroup& g, VectorX& z) const {
+  for (int e = 0; e < g.entries; ++e) z[dof_[static_cast<size_t>(g.first_entry + e)]] = 0.0;
+}
+
+void ContactRows::coupling(const ContactGroup& g, const ContactGroup& h, ContactBlock& W) const {
+  W.setZero();
+  int p = 0, q = 0;
+  while (p < g.entries && q < h.entries) {
+    const int dp = dof_[static_cast<size_t>(g.first_entry + p)], dq = dof_[static_cast<size_t>(h.first_entry + q)];
+    if (dp < dq) {
+      ++p;
+    } else if (dq < dp) {
+      ++q;
+    } else {
+      const double inv = invD_[static_cast<size_t>(g.first_entry + p)];
+      for (int r = 0; r < g.rows; ++r) {
+        const double xr = inv * X_[static_cast<size_t>(g.first_value + r * g.entries + p)];
+        for (int s = 0; s < h.rows; ++s) W(r, s) += xr * X_[static_cast<size_t>(h.first_value + s * h.entries + q)];
+      }
+      ++p;
+      ++q;
+    }
+  }
+}
+
+void ContactRows::apply(const MatrixX& LD, VectorX& z, VectorX& v) {
+  const int nv = model_.nv;
+  const double* const ld = LD.data();
+  std::fill(tree_touched_.begin(), tree_touched_.end(), 0);
+  for (int gi = 0; gi < ngroups_; ++gi) {
+    const ContactGroup& g = groups_[static_cast<size_t>(gi)];
+    if (g.tree_a >= 0) tree_touched_[static_cast<size_t>(g.tree_a)] = 1;
+    if (g.tree_b >= 0) tree_touched_[static_cast<size_t>(g.tree_b)] = 1;
+  }
+  // L x = z, tree by tree, from the root down (each dof's L row reaches its ancestors).
+  for (size_t t = 0; t < model_.parts.size(); ++t) {
+    if (!tree_touched_[t]) continue;
+    const ModelPart& part = model_.parts[t];
+    for (int k = part.dof_begin; k < part.dof_end; ++k) {
+      const double* const lk = ld + static_cast<std::ptrdiff_t>(k) * nv;
+      double sum = 0.0;
+      forEachAncestorRun(model_.dof_parent, model_.dof_run_start, model_.dof_parent[k], [&](int s, int j) {
+        for (int t2 = s; t2 <= j; ++t2) sum += lk[t2] * z[t2];
+      });
+      z[k] -= sum;
+    }
+    for (int k = part.dof_begin; k < part.dof_end; ++k) {
+      v[k] += z[k];
+      z[k] = 0.0;
+    }
+  }
+}
+
+double ContactRows::normalSpeed(const ContactGroup& g, int k, const VectorX& v) const {
+  const double* const J = J_.data() + g.first_value + k * g.entries;
+  double u = 0.0;
+  for (int e = 0; e < g.entries; ++e) u += J[e] * v[dof_[static_cast<size_t>(g.first_entry + e)]];
+  return u;
+}
+
+}  // namespace igms

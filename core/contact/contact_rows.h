@@ -1,0 +1,100 @@
+// The contact solve's rows (constraint assembly): per pair of shapes in contact, its rows of J (a
+// normal per point, then friction: two tangents, and a torsion for a patch), X = L^-T J^T on the dofs
+// that move the pair (A = L^T D L, the step's matrix, factored), its own Delassus block
+// W_gg = X_g^T D^-1 X_g, its velocities under v_free and its targets. The solvers (contact_sweep.h,
+// contact_active_set.h) never form the blocks between pairs: the impulses' effect lives in an
+// accumulator z = D^-1 sum_h X_h lambda_h over the dofs, so a pair's velocity is
+// u_g = b_g + X_g^T z, and a change of its impulse updates z on its own dofs. The cost per pair is
+// its rows times its dofs, whatever the number of pairs on a tree (a humanoid's many contacts, a
+// snake lying on the ground); W_gh is formed only where the active-set solve needs it.
+// Allocation-free after construction; the order of every sum is fixed.
+#pragma once
+
+#include <vector>
+
+#include "core/contact/contact_model.h"
+#include "core/contact/contact_set.h"
+#include "core/geometry/shape_contact.h"
+#include "core/model/data.h"
+
+namespace igms {
+
+constexpr int kMaxContactRows = kMaxPairPoints + 3;  // a patch: its normals, two tangents, a torsion
+using ContactBlock = Eigen::Matrix<double, kMaxContactRows, kMaxContactRows>;
+using ContactRowVector = Eigen::Matrix<double, kMaxContactRows, 1>;
+
+// One pair's contacts: their rows (normals first, then friction) and everything about them.
+struct ContactGroup {
+  int first = 0, points = 0;    // its contacts in the set
+  bool patch = false;           // several points: friction at the centroid (rows: normals, t1, t2, torsion)
+  int rows = 0;                 // points + 2 (one point: n, t1, t2) or points + 3
+  Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
+  double mu = 0.0, radius = 0.0;  // friction coefficient; a patch's torsion radius
+  int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
+  int first_value = 0;               // its rows' J and X: rows x entries, row-major
+  int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
+  ContactBlock W;                    // its own Delassus block
+  Eigen::Matrix3d friction_inverse;  // of the friction rows' block (stick)
+  double friction_step = 0.0;  // 1 / (a bound on the largest eigenvalue of the scaled friction block)
+  ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
+  ContactRowVector sigma;              // pseudo-impulses (normal rows)
+  bool bounce[kMaxPairPoints] = {};
+  double approach[kMaxPairPoints] = {};
+  // The active-set solve's view (contact_active_set.h): which normals touch, whether the friction
+  // sticks or slips (then lambda_row = slide[row] * sum of the normals), each row's unknown (-1: none).
+  bool active[kMaxPairPoints] = {};
+  bool sliding = false;
+  double slide[kMaxContactRows] = {};
+  int unknown[kMaxContactRows] = {};
+  ContactRowVector trial, trial_u;
+};
+
+class ContactRows {
+ public:
+  ContactRows(const Model& model, const ContactModel& contacts);
+
+  // Each pair's rows from the step's start (data: S_world from the inertia matrix's pass), A's factors
+  // LD (ltdl.h), the step h, the start velocity v0 and v_free. \return the number of groups.
+  int build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
+            const VectorX& v_free);
+
+  int size() const { return ngroups_; }
+  ContactGroup& group(int g) { return groups_[static_cast<size_t>(g)]; }
+  const ContactGroup& group(int g) const { return groups_[static_cast<size_t>(g)]; }
+  // The groups that touch model part t (their sides), in order.
+  int treeGroups(int t) const { return tree_count_[static_cast<size_t>(t)]; }
+  int treeGroup(int t, int k) const { return tree_groups_[static_cast<size_t>(t)][static_cast<size_t>(k)]; }
+
+  // An accumulator z (nv, zero where nothing was added): z += D^-1 X_g^T delta (the first `rows` of delta).
+  void add(const ContactGroup& g, const ContactRowVector& delta, int rows, VectorX& z) const;
+  // X_g^T z on its first `rows` rows (J_g A^-1 J^T lambda for the impulses z holds; the rest zero).
+  ContactRowVector velocity(const ContactGroup& g, const VectorX& z, int rows) const;
+  // Zeroes z on g's dofs (where add() wrote).
+  void clear(const ContactGroup& g, VectorX& z) const;
+  // W_gh = X_g^T D^-1 X_h over the dofs both share (zero when they share no tree).
+  void coupling(const ContactGroup& g, const ContactGroup& h, ContactBlock& W) const;
+  // v += L^-1 z on every tree a group touches (z = D^-1 sum X lambda: v += A^-1 J^T lambda); z is
+  // left zero.
+  void apply(const MatrixX& LD, VectorX& z, VectorX& v);
+  // The normal speed of point k of g under v (J_k v).
+  double normalSpeed(const ContactGroup& g, int k, const VectorX& v) const;
+
+ private:
+  const Model& model_;
+  const ContactModel& cm_;
+  std::vector<std::vector<int>> body_chain_;  // per body: the dofs that move it, ascending
+  std::vector<int> part_of_body_;
+  int max_entries_ = 0;                       // per group: both chains
+  std::vector<ContactGroup> groups_;
+  int ngroups_ = 0;
+  std::vector<int> dof_;                      // per group entry: the dof
+  std::vector<double> invD_;                  // per group entry: 1 / D of the dof
+  std::vector<double> J_, X_;                 // per group: rows x entries, row-major
+  std::vector<double> sign_;                  // build(): per entry of one group, its side (-1 a, +1 b, 0 both)
+  std::vector<int> up_;                       // build(): per entry, its parent dof's entry (-1: none)
+  std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
+  std::vector<int> tree_count_;
+  std::vector<char> tree_touched_;
+};
+
+}  // namespace igms

@@ -1,0 +1,123 @@
+#include "core/contact/contact_sweep.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace igms {
+namespace {
+
+// One point: sticking first, the whole block at once, target (u*, 0, 0); where that pulls or leaves
+// the cone, the normal row, then the tangential ones against what it changed, onto the cone by an
+// isotropic step (a step by W_tt^-1 would settle where W_tt lambda_t opposes the slip instead).
+void solvePoint(ContactGroup& g, const ContactRowVector& u) {
+  const Vector3 lam = g.lambda.head<3>();
+  const Vector3 uu = u.head<3>();
+  Vector3 l = lam - g.friction_inverse * (uu - Vector3(g.target[0], 0.0, 0.0));
+  if (!(l.x() > 0.0) || l.tail<2>().norm() > g.mu * l.x()) {
+    const double ln = std::max(0.0, lam.x() - (uu.x() - g.target[0]) / g.W(0, 0));
+    const Eigen::Vector2d ut = uu.tail<2>() + g.W.block<2, 1>(1, 0) * (ln - lam.x());
+    Eigen::Vector2d lt = lam.tail<2>() - g.friction_step * ut;
+    const double t = lt.norm(), cap = g.mu * ln;
+    if (t > cap) lt *= cap / t;
+    l = Vector3(ln, lt.x(), lt.y());
+  }
+  g.lambda.head<3>() = l;
+}
+
+// A patch: its normals one by one (u kept current through the group's own block), then its friction
+// (two tangents and a torsion) at once, inside the ellipsoid (|f_t| / mu N)^2 + (tau / mu N r)^2 <= 1.
+void solvePatch(ContactGroup& g, ContactRowVector u) {
+  const int R = g.rows, P = g.points;
+  for (int k = 0; k < P; ++k) {
+    const double ln = std::max(0.0, g.lambda[k] - (u[k] - g.target[k]) / g.W(k, k));
+    const double d = ln - g.lambda[k];
+    if (d != 0.0) u.head(R) += g.W.col(k).head(R) * d;
+    g.lambda[k] = ln;
+  }
+  double N = 0.0;
+  for (int k = 0; k < P; ++k) N += g.lambda[k];
+  const Vector3 lam = g.lambda.segment<3>(P);
+  const Vector3 uf = u.segment<3>(P);
+  Vector3 l = Vector3::Zero();
+  if (N > 0.0) {
+    const double rad = g.radius;
+    auto size = [&](const Vector3& f) { return rad > 0.0 ? std::hypot(std::hypot(f.x(), f.y()), f.z() / rad) : f.head<2>().norm(); };
+    l = lam - g.friction_inverse * uf;
+    if (rad <= 0.0) l.z() = 0.0;
+    if (size(l) > g.mu * N) {
+      // Slipping: an isotropic step in the ellipsoid's scaled coordinates (s = (f_t, tau / r), its
+      // velocity (u_t, r w)), then onto the ball of radius mu N.
+      const Vector3 scale(1.0, 1.0, rad);
+      Vector3 s(lam.x(), lam.y(), rad > 0.0 ? lam.z() / rad : 0.0);
+      s -= g.friction_step * scale.cwiseProduct(uf);
+      if (rad <= 0.0) s.z() = 0.0;
+      const double n = s.norm(), cap = g.mu * N;
+      if (n > cap) s *= cap / n;
+      l = scale.cwiseProduct(s);
+    }
+  }
+  g.lambda.segment<3>(P) = l;
+}
+
+}  // namespace
+
+SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tolerance) {
+  SweepResult out;
+  const int ng = rows.size();
+  for (int pass = 0; pass < sweeps; ++pass) {
+    double largest = 0.0;
+    for (int gi = 0; gi < ng; ++gi) {
+      ContactGroup& g = rows.group(gi);
+      const int R = g.rows;
+      const ContactRowVector u = g.b + rows.velocity(g, z, R);
+      const ContactRowVector before = g.lambda;
+      if (g.patch) solvePatch(g, u);
+      else solvePoint(g, u);
+      const ContactRowVector delta = g.lambda - before;
+      if (delta.head(R).isZero(0.0)) continue;
+      rows.add(g, delta, R, z);
+      largest = std::max(largest, (g.W.topLeftCorner(R, R) * delta.head(R)).cwiseAbs().maxCoeff());
+    }
+    ++out.sweeps;
+    out.residual = largest;
+    if (largest <= tolerance) {
+      out.converged = true;
+      break;
+    }
+  }
+  return out;
+}
+
+SweepResult sweepPseudo(ContactRows& rows, VectorX& zs, int sweeps, double tolerance) {
+  SweepResult out;
+  const int ng = rows.size();
+  for (int pass = 0; pass < sweeps; ++pass) {
+    double largest = 0.0;
+    for (int gi = 0; gi < ng; ++gi) {
+      ContactGroup& g = rows.group(gi);
+      const int P = g.points;
+      ContactRowVector s = rows.velocity(g, zs, P);
+      ContactRowVector delta = ContactRowVector::Zero();
+      for (int k = 0; k < P; ++k) {
+        double sigma = g.sigma[k] - (s[k] - g.target[k]) / (g.W(k, k) + 1e-300);
+        if (!g.bounce[k]) sigma = std::max(0.0, sigma);
+        const double d = sigma - g.sigma[k];
+        if (d == 0.0) continue;
+        s.head(P) += g.W.col(k).head(P) * d;
+        largest = std::max(largest, std::abs(g.W(k, k) * d));
+        g.sigma[k] = sigma;
+        delta[k] = d;
+      }
+      rows.add(g, delta, P, zs);
+    }
+    ++out.sweeps;
+    out.residual = largest;
+    if (largest <= tolerance) {
+      out.converged = true;
+      break;
+    }
+  }
+  return out;
+}
+
+}  // namespace igms

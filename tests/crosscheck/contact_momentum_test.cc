@@ -1,0 +1,103 @@
+// Contact inside one system keeps its total momentum (Newton's third law through the whole step): a
+// floating-base robot whose legs strike each other in zero gravity (self-collision), with contact
+// and joint impulses internal, keeps the spatial momentum of all its bodies to round-off. The
+// Delassus blocks of a self-contact must carry the dofs both links share (the floating base's, a
+// common hip), which take the reaction. And a chain deeper than the solver's old fixed buffers (64 dofs
+// a side) rests on the ground with its weight carried.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "core/contact/contact_detection.h"
+#include "core/contact/contact_solver.h"
+#include "core/dynamics/forward_dynamics.h"
+#include "core/simulation/simulation.h"
+#include "tests/support/test_models.h"
+
+namespace igms {
+namespace {
+
+Scene sceneText(const std::string& yaml) { return parseScene(yaml, "test.yaml", test::sourceDir() + "/scenes"); }
+
+TEST(ContactMomentum, LegsStrikingEachOtherPutNoNetImpulseOnTheRobot) {
+  // The quadruped's front legs swung toward each other (lf_hip_abad -6 rad/s, rf_hip_abad +6; the
+  // joints come lf, lh, rf, rh, by name), no gravity, a weak joint PD. At each step where they touch,
+  // the contact solve alone, on H's factor (A = H): v+ - v = H^-1 J^T lambda, so H (v+ - v) is the
+  // generalised impulse, and its base rows, the contact's net spatial impulse on the robot, are zero
+  // for a contact inside it.
+  Simulation sim(sceneText(
+      "robot: {model: ../models/quadruped.urdf, floating_base: true}\ngravity: [0, 0, 0]\n"
+      "initial:\n  q: [0, 0, 0, 1, 0, 0, 0,  0, 0.6, -1.2,  0, 0.6, -1.2,  0, 0.6, -1.2,  0, 0.6, -1.2]\n"
+      "  v: [0, 0, 0, 0, 0, 0,  -6, 0, 0,  0, 0, 0,  6, 0, 0,  0, 0, 0]\n"
+      "controller: {kind: pd, kp: 1, kd: 0.01}\ncontact: {self_collision: true}\n"
+      "simulation: {integrator: linearly_implicit, dt: 0.001}\n"));
+  const Model& model = sim.model();
+  Data data(model);
+  ContactDetection detection(*sim.contactModel());
+  ContactSolver solver(model, *sim.contactModel());
+  ContactSet set(sim.contactModel()->capacity());
+  VectorX v(model.nv), v_position(model.nv);
+  double worst = 0.0, largest = 0.0;
+  int touching = 0;
+  for (int k = 0; k < 400; ++k) {
+    ASSERT_TRUE(forwardDynamics(model, data, sim.q(), sim.v(), VectorX::Zero(model.nv)));
+    detection.detect(data, set);
+    if (set.n > 0) {
+      ++touching;
+      v = sim.v();
+      solver.solve(data, data.Hfact, sim.scene().dt, sim.v(), set, v, v_position);
+      const VectorX impulse = data.H.selfadjointView<Eigen::Upper>() * (v - sim.v());
+      largest = std::max(largest, impulse.norm());
+      worst = std::max(worst, impulse.head<6>().norm());
+    }
+    ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+  }
+  std::printf("legs striking each other: in contact %d of 400 steps, the contact's generalised impulse up to %.3e, "
+              "its net impulse on the robot up to %.2e\n",
+              touching, largest, worst);
+  ASSERT_GT(touching, 0) << "the legs meet";
+  ASSERT_GT(largest, 1e-2);
+  EXPECT_LT(worst, 1e-12 * largest + 1e-15);
+}
+
+// A snake of n links (0.05 m apart, each a 2 cm ball of 0.1 kg, hinged about z) on a floating base.
+std::string snakeUrdf(int n) {
+  std::string u = "<robot name=\"snake\">";
+  for (int k = 0; k < n; ++k) {
+    u += "<link name=\"l" + std::to_string(k) +
+         "\"><inertial><mass value=\"0.1\"/><inertia ixx=\"1.6e-5\" iyy=\"1.6e-5\" izz=\"1.6e-5\" ixy=\"0\" "
+         "ixz=\"0\" iyz=\"0\"/></inertial><collision><geometry><sphere radius=\"0.02\"/></geometry></collision></link>";
+    if (k > 0)
+      u += "<joint name=\"j" + std::to_string(k) + "\" type=\"revolute\"><parent link=\"l" + std::to_string(k - 1) +
+           "\"/><child link=\"l" + std::to_string(k) +
+           "\"/><origin xyz=\"0.05 0 0\"/><axis xyz=\"0 0 1\"/><limit lower=\"-3\" upper=\"3\" effort=\"10\" "
+           "velocity=\"10\"/></joint>";
+  }
+  return u + "</robot>";
+}
+
+TEST(ContactMomentum, ASnakeDeeperThanTheSolversOldBuffersRestsOnTheGround) {
+  // 150 links in one chain: a contact at its tail involves 155 dofs (the solver kept 128 on its stack).
+  const std::string path = ::testing::TempDir() + "/snake150.urdf";
+  std::ofstream(path) << snakeUrdf(150);
+  std::string q = "[0, 0, 0.02, 1, 0, 0, 0";  // the base on the ground, the snake straight
+  for (int k = 1; k < 150; ++k) q += ", 0";
+  Simulation sim(sceneText("robot: {model: " + path + ", floating_base: true}\nground: {height: 0}\n"
+                           "initial: {q: " + q + "]}\ncontroller: {kind: pd, kp: 5, kd: 0.2}\n"
+                           "simulation: {integrator: linearly_implicit, dt: 0.001}\n"));
+  for (int k = 0; k < 500; ++k) ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+  double carried = 0.0;
+  for (int c = 0; c < sim.contacts().n; ++c) carried += std::abs(sim.contacts()[c].impulse.z()) / sim.scene().dt;
+  const double weight = sim.model().totalMass() * 9.81;
+  std::printf("150-link snake on the ground: %d contacts carry %.9f N (m g %.9f N), fastest dof %.2e\n",
+              sim.contacts().n, carried, weight, sim.v().cwiseAbs().maxCoeff());
+  EXPECT_EQ(sim.contacts().n, 150);
+  EXPECT_NEAR(carried, weight, 1e-6 * weight);
+  EXPECT_LT(sim.v().cwiseAbs().maxCoeff(), 1e-6) << "at rest";
+}
+
+}  // namespace
+}  // namespace igms
