@@ -5,8 +5,8 @@
 #   scripts/bench.sh --peers [--rounds N] [--robots a,b]   igms vs Pinocchio and MuJoCo (PyPI pin and
 #       mujoco in .venv-peers, igms-peer-bench built in build-peers/), interleaved rounds, ratios
 #   scripts/bench.sh --contact [--rounds N] [--steps N]    igms's step vs MuJoCo's mj_step on the contact scenes
-#       (the same models as MJCF from scripts/contact_peers.py), interleaved, medians and ratios; then what
-#       each does on them (creep, sinking, stopping distance) -> out/bench/contact*.json
+#       and dense piles of 27 to 1000 spheres (scripts/pile_scene.py), the same models as MJCF from
+#       scripts/contact_peers.py, interleaved, medians and ratios -> out/bench/contact*.json
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null
@@ -30,9 +30,15 @@ if [[ ${1:-} == --contact ]]; then
   shift
   configure_peers
   cmake --build build-peers --target igms-contact-bench igms-dyn >/dev/null
-  scenes=(go1_stand talos_stand box_slope box_slide box_tower sphere_pile)
+  scenes=(go1_stand talos_stand box_slope box_slide box_tower box_pyramid sphere_pile)
   args=()
   for s in "${scenes[@]}"; do args+=(--scene "scenes/$s.yaml"); done
+  # Dense piles of 27, 216, 512 and 1000 spheres (columns 1 mm apart: every neighbour inside the margin).
+  mkdir -p out/bench/scenes
+  for n in 3 6 8 10; do
+    /usr/bin/python3 scripts/pile_scene.py $n out/bench/scenes/pile$((n * n * n)).yaml
+    args+=(--scene out/bench/scenes/pile$((n * n * n)).yaml)
+  done
   .venv-peers/bin/python scripts/contact_peers.py "${args[@]}" --out out/bench/mjcf
   build-peers/bench/igms-contact-bench --mjcf-dir out/bench/mjcf "${args[@]}" --json out/bench/contact.json "$@" |
     tee out/bench/contact.txt

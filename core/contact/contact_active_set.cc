@@ -32,7 +32,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   bool all = true;
   rounds_ = 0;
   for (int seed = 0; seed < ng; ++seed) {
-    if (island_[static_cast<size_t>(seed)] >= 0) continue;
+    if (island_[static_cast<size_t>(seed)] >= 0 || !rows.group(seed).complete) continue;
     int head = 0, tail = 0, n = 0;
     queue_[static_cast<size_t>(tail++)] = seed;
     island_[static_cast<size_t>(seed)] = seed;
@@ -54,10 +54,10 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
     std::sort(members_.begin(), members_.begin() + n);  // a fixed order for the unknowns
     all = polishIsland(rows, n, tolerance) && all;
   }
-  if (all) {  // z for the polished impulses
-    for (int g = 0; g < ng; ++g) rows.clear(rows.group(g), z);
-    for (int g = 0; g < ng; ++g) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
-  }
+  // z for the impulses as they now are (an island that took its solve changed them, whatever the others did).
+  for (int g = 0; g < ng; ++g) rows.clear(rows.group(g), z);
+  for (int g = 0; g < ng; ++g)
+    if (rows.group(g).complete) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
   return all;
 }
 

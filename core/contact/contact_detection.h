@@ -36,6 +36,8 @@ class ContactDetection {
   std::vector<int> order_;          // moving and fixed non-plane geoms, by box lo along the sweep axis
   std::vector<int> planes_, moving_;
   std::vector<std::pair<int, int>> pairs_;  // candidates, capacity fixed
+  std::vector<std::pair<int, int>> sorted_;  // the counting sort's output (swapped with pairs_)
+  std::vector<int> first_count_;             // the counting sort's buckets, per geom
   int npairs_ = 0;
   int64_t pairs_dropped_ = 0;
 };

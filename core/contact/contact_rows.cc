@@ -47,6 +47,7 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
   groups_.resize(static_cast<size_t>(capacity));
   dof_.resize(static_cast<size_t>(capacity * max_entries_));
   invD_.resize(dof_.size());
+  sign_of_.resize(dof_.size());
   J_.resize(static_cast<size_t>(capacity * max_entries_ * kMaxContactRows));
   X_.resize(J_.size());
   tree_groups_.assign(model.parts.size(), std::vector<int>(static_cast<size_t>(capacity)));
@@ -58,6 +59,7 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
 // velocities and targets.
 int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
                        const VectorX& v) {
+  data_ = &data;
   const int nc = contacts.n;
   const int nv = model_.nv;
   const double* const ld = LD.data();
@@ -131,61 +133,20 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
     // Each row as a spatial vector [d; p x d] (the velocity of point p along d is its dot with the
     // dof's world twist [v; w]); a torsion row [0; n].
     const int P = g.points;
-    Vector6 row[kMaxContactRows];
+    Vector6 row[kMaxPairPoints];
     for (int k = 0; k < P; ++k) row[k] << contacts[i + k].normal, contacts[i + k].point.cross(contacts[i + k].normal);
-    row[P] << g.t1, g.centroid.cross(g.t1);
-    row[P + 1] << g.t2, g.centroid.cross(g.t2);
-    if (g.patch) row[P + 2] << Vector3::Zero(), g.n;
+    // The normal rows now (whether the pair is in the solve at all), the friction rows in complete().
     for (int e = 0; e < count; ++e) {
       const Eigen::Map<const Vector6> S(data.S_world.col(dof_[static_cast<size_t>(entry + e)]).data());
       double* const J = J_.data() + value;
-      for (int r = 0; r < g.rows; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
-    }
-    // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
-    // upward), found below it in the ascending list; from the last entry down, each passes its value
-    // up its chain.
-    int* const up = up_.data();
-    for (int e = 0; e < count; ++e) {
-      const int parent = model_.dof_parent[dof_[static_cast<size_t>(entry + e)]];
-      int a = e - 1;
-      while (a >= 0 && dof_[static_cast<size_t>(entry + a)] != parent) --a;
-      up[e] = parent < 0 ? -1 : a;
-    }
-    std::copy(J_.begin() + value, J_.begin() + value + g.rows * count, X_.begin() + value);
-    for (int e = count - 1; e >= 0; --e) {
-      const double* const lk = ld + static_cast<std::ptrdiff_t>(dof_[static_cast<size_t>(entry + e)]) * nv;
-      for (int r = 0; r < g.rows; ++r) {
-        double* const X = X_.data() + value + r * count;
-        const double xk = X[e];
-        if (xk == 0.0) continue;
-        for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(entry + a)]] * xk;
-      }
-    }
-    g.W.setZero();
-    for (int r = 0; r < g.rows; ++r)
-      for (int s = r; s < g.rows; ++s) {
-        const double* const xr = X_.data() + value + r * count;
-        const double* const xs = X_.data() + value + s * count;
-        double w = 0.0;
-        for (int e = 0; e < count; ++e) w += xr[e] * xs[e] * invD_[static_cast<size_t>(entry + e)];
-        g.W(r, s) = g.W(s, r) = w;
-      }
-    if (g.patch) {
-      const Eigen::Matrix3d F = g.W.block<3, 3>(P, P);
-      g.friction_inverse = regularisedInverse(F);
-      const Vector3 scale(1.0, 1.0, g.radius);
-      const Eigen::Matrix3d Fs = scale.asDiagonal() * F * scale.asDiagonal();
-      g.friction_step = 1.0 / (Fs.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300);
-    } else {
-      g.friction_inverse = regularisedInverse(Eigen::Matrix3d(g.W.block<3, 3>(0, 0)));
-      const double a = g.W(1, 1), b = g.W(1, 2), d = g.W(2, 2);
-      g.friction_step = 1.0 / (0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b) + 1e-300);
+      for (int r = 0; r < P; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
+      sign_of_[static_cast<size_t>(entry + e)] = sign[e];
     }
     // Velocities and targets.
     g.b.setZero();
     g.target.setZero();
     g.sigma.setZero();
-    for (int r = 0; r < g.rows; ++r) {
+    for (int r = 0; r < P; ++r) {
       const double* const J = J_.data() + value + r * count;
       double b = 0.0;
       for (int e = 0; e < count; ++e) b += J[e] * v[dof_[static_cast<size_t>(entry + e)]];
@@ -203,16 +164,91 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
     }
     g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
-    const int me = ng - 1;
-    if (g.tree_a >= 0) tree_groups_[static_cast<size_t>(g.tree_a)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_a)]++)] = me;
-    if (g.tree_b >= 0 && g.tree_b != g.tree_a)
-      tree_groups_[static_cast<size_t>(g.tree_b)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_b)]++)] = me;
+    g.complete = false;
     entry += count;
     value += g.rows * count;
     i = end;
   }
   ngroups_ = ng;
   return ng;
+}
+
+void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
+  ContactGroup& g = groups_[static_cast<size_t>(gi)];
+  if (g.complete) return;
+  const int nv = model_.nv;
+  const double* const ld = LD.data();
+  const int P = g.points;
+  // The friction rows of J (at the point, or the patch's centroid; a torsion row [0; n]) and their
+  // velocities under v_free.
+  Vector6 row[3];
+  row[0] << g.t1, g.centroid.cross(g.t1);
+  row[1] << g.t2, g.centroid.cross(g.t2);
+  if (g.patch) row[2] << Vector3::Zero(), g.n;
+  for (int e = 0; e < g.entries; ++e) {
+    const int dof = dof_[static_cast<size_t>(g.first_entry + e)];
+    const Eigen::Map<const Vector6> S(data_->S_world.col(dof).data());
+    double* const J = J_.data() + g.first_value;
+    for (int r = P; r < g.rows; ++r) J[r * g.entries + e] = sign_of_[static_cast<size_t>(g.first_entry + e)] * row[r - P].dot(S);
+  }
+  for (int r = P; r < g.rows; ++r) {
+    const double* const J = J_.data() + g.first_value + r * g.entries;
+    double b = 0.0;
+    for (int e = 0; e < g.entries; ++e) b += J[e] * v_free[dof_[static_cast<size_t>(g.first_entry + e)]];
+    g.b[r] = b;
+  }
+  // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
+  // upward), found below it in the ascending list; from the last entry down, each passes its value up
+  // its chain.
+  int* const up = up_.data();
+  for (int e = 0; e < g.entries; ++e) {
+    const int parent = model_.dof_parent[dof_[static_cast<size_t>(g.first_entry + e)]];
+    int a = e - 1;
+    while (a >= 0 && dof_[static_cast<size_t>(g.first_entry + a)] != parent) --a;
+    up[e] = parent < 0 ? -1 : a;
+  }
+  std::copy(J_.begin() + g.first_value, J_.begin() + g.first_value + g.rows * g.entries, X_.begin() + g.first_value);
+  for (int e = g.entries - 1; e >= 0; --e) {
+    const double* const lk = ld + static_cast<std::ptrdiff_t>(dof_[static_cast<size_t>(g.first_entry + e)]) * nv;
+    for (int r = 0; r < g.rows; ++r) {
+      double* const X = X_.data() + g.first_value + r * g.entries;
+      const double xk = X[e];
+      if (xk == 0.0) continue;
+      for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(g.first_entry + a)]] * xk;
+    }
+  }
+  g.W.setZero();
+  for (int r = 0; r < g.rows; ++r)
+    for (int s = r; s < g.rows; ++s) {
+      const double* const xr = X_.data() + g.first_value + r * g.entries;
+      const double* const xs = X_.data() + g.first_value + s * g.entries;
+      double w = 0.0;
+      for (int e = 0; e < g.entries; ++e) w += xr[e] * xs[e] * invD_[static_cast<size_t>(g.first_entry + e)];
+      g.W(r, s) = g.W(s, r) = w;
+    }
+  if (g.patch) {
+    const Eigen::Matrix3d F = g.W.block<3, 3>(P, P);
+    g.friction_inverse = regularisedInverse(F);
+    const Vector3 scale(1.0, 1.0, g.radius);
+    const Eigen::Matrix3d Fs = scale.asDiagonal() * F * scale.asDiagonal();
+    g.friction_step = 1.0 / (Fs.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300);
+  } else {
+    g.friction_inverse = regularisedInverse(Eigen::Matrix3d(g.W.block<3, 3>(0, 0)));
+    const double a = g.W(1, 1), b = g.W(1, 2), d = g.W(2, 2);
+    g.friction_step = 1.0 / (0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b) + 1e-300);
+  }
+  if (g.tree_a >= 0) tree_groups_[static_cast<size_t>(g.tree_a)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_a)]++)] = gi;
+  if (g.tree_b >= 0 && g.tree_b != g.tree_a)
+  tree_groups_[static_cast<size_t>(g.tree_b)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_b)]++)] = gi;
+  g.complete = true;
+}
+
+bool ContactRows::separating(const ContactGroup& g, const ContactSet& contacts, double h) const {
+  for (int k = 0; k < g.points; ++k) {
+    const double gap = contacts[g.first + k].distance;
+    if (!(gap > 0.0) || g.bounce[k] || gap + h * g.b[k] <= 0.0) return false;
+  }
+  return true;
 }
 
 void ContactRows::add(const ContactGroup& g, const ContactRowVector& delta, int rows, VectorX& z) const {
@@ -269,6 +305,7 @@ void ContactRows::apply(const MatrixX& LD, VectorX& z, VectorX& v) {
   std::fill(tree_touched_.begin(), tree_touched_.end(), 0);
   for (int gi = 0; gi < ngroups_; ++gi) {
     const ContactGroup& g = groups_[static_cast<size_t>(gi)];
+    if (!g.complete) continue;
     if (g.tree_a >= 0) tree_touched_[static_cast<size_t>(g.tree_a)] = 1;
     if (g.tree_b >= 0) tree_touched_[static_cast<size_t>(g.tree_b)] = 1;
   }

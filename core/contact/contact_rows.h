@@ -33,6 +33,7 @@ struct ContactGroup {
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
   int first_value = 0;               // its rows' J and X: rows x entries, row-major
   int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
+  bool complete = false;             // its X, W and friction block formed (complete()): in the solve
   ContactBlock W;                    // its own Delassus block
   Eigen::Matrix3d friction_inverse;  // of the friction rows' block (stick)
   double friction_step = 0.0;  // 1 / (a bound on the largest eigenvalue of the scaled friction block)
@@ -53,10 +54,19 @@ class ContactRows {
  public:
   ContactRows(const Model& model, const ContactModel& contacts);
 
-  // Each pair's rows from the step's start (data: S_world from the inertia matrix's pass), A's factors
-  // LD (ltdl.h), the step h, the start velocity v0 and v_free. \return the number of groups.
+  // Each pair's normal rows of J from the step's start (data: S_world from the inertia matrix's pass;
+  // kept until the solve ends), A's diagonal from its factors LD (ltdl.h), their velocities
+  // b = J v_free (h, v0: the start velocity), targets and bounces. \return the number of groups. None
+  // is in the solve until complete().
   int build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
             const VectorX& v_free);
+  // Group g's friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and
+  // its friction block: in the solve from now on.
+  void complete(int g, const MatrixX& LD, const VectorX& v_free);
+  // Every point of g apart and not closing under v_free within the step (gap + h J v_free > 0), no
+  // bounce: a pair the solve may leave out while its impulse is zero (checked after it: a pair that
+  // the others' impulses push across is let in, and the solve taken again).
+  bool separating(const ContactGroup& g, const ContactSet& contacts, double h) const;
 
   int size() const { return ngroups_; }
   ContactGroup& group(int g) { return groups_[static_cast<size_t>(g)]; }
@@ -91,6 +101,8 @@ class ContactRows {
   std::vector<double> invD_;                  // per group entry: 1 / D of the dof
   std::vector<double> J_, X_;                 // per group: rows x entries, row-major
   std::vector<double> sign_;                  // build(): per entry of one group, its side (-1 a, +1 b, 0 both)
+  std::vector<double> sign_of_;               // per group entry: that side, kept for complete()
+  const Data* data_ = nullptr;                // the step's start, from build()
   std::vector<int> up_;                       // build(): per entry, its parent dof's entry (-1: none)
   std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
   std::vector<int> tree_count_;

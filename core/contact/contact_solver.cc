@@ -19,6 +19,7 @@ ContactSolver::ContactSolver(const Model& model, const ContactModel& contacts)
       active_(model, contacts.capacity()),
       z_(VectorX::Zero(model.nv)),
       zs_(VectorX::Zero(model.nv)),
+      v_free_(VectorX::Zero(model.nv)),
       previous_(static_cast<size_t>(contacts.capacity())),
       settings_(contacts.settings()) {}
 
@@ -97,31 +98,21 @@ bool ContactSolver::anySliding() const {
   return false;
 }
 
-void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const VectorX& v0, ContactSet& contacts,
-                          VectorX& v, VectorX& v_position) {
-  if (contacts.n == 0) {
-    previous_n_ = 0;
-    v_position = v;
-    return;
-  }
-  const int ng = rows_.build(data, LD, contacts, h, v0, v);
-  warmStart(contacts);
-  for (int g = 0; g < ng; ++g) rows_.add(rows_.group(g), rows_.group(g).lambda, rows_.group(g).rows, z_);
-  // Sweeps, and where they have not converged after a few, the exact solve of the active set they
-  // found; if that does not hold, more sweeps, another solve, up to the sweep limit. When the first
-  // sweep from the last step's impulses changes almost nothing and nothing slips (a resting stack:
-  // its warm start is all but exact, and sweeps would creep towards the tolerance), the active set
-  // it shows is solved at once. (A slipping friction keeps the direction its guess had: one sweep's
-  // is not yet right.)
+// Sweeps, and where they have not converged after a few, the exact solve of the active set they
+// found; if that does not hold, more sweeps, another solve, up to the sweep limit. When the first
+// sweep from the last step's impulses changes almost nothing and nothing slips (a resting stack:
+// its warm start is all but exact, and sweeps would creep towards the tolerance), the active set it
+// shows is solved at once. (A slipping friction keeps the direction its guess had: one sweep's is
+// not yet right.) \return converged.
+bool ContactSolver::solveImpulses() {
   constexpr int kSweepsPerPolish = 10;
   constexpr double kNearlyThere = 1e-6;  // m/s: a first sweep's residual that trusts its active set
   const int limit = settings_.iterations;
-  stats_.iterations = 0;
-  stats_.polish_rounds = 0;
+  const int start = stats_.iterations;
   stats_.residual = 0.0;
   bool converged = false;
   while (!converged && stats_.iterations < limit) {
-    const bool first = stats_.iterations == 0;
+    const bool first = stats_.iterations == start;
     const SweepResult r = sweepImpulses(rows_, z_, std::min(first ? 1 : kSweepsPerPolish, limit - stats_.iterations),
                                         settings_.tolerance);
     stats_.iterations += r.sweeps;
@@ -137,14 +128,66 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
       }
     }
   }
+  return converged;
+}
+
+void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const VectorX& v0, ContactSet& contacts,
+                          VectorX& v, VectorX& v_position) {
+  if (contacts.n == 0) {
+    previous_n_ = 0;
+    v_position = v;
+    return;
+  }
+  const int ng = rows_.build(data, LD, contacts, h, v0, v);
+  warmStart(contacts);
+  // Pairs apart and not closing, with no impulse from the last step, wait outside the solve (a pile's
+  // neighbours a millimetre apart inside the margin: most of its pairs); each is checked against the
+  // solve's v+ and let in if the others' impulses push it across.
+  stats_.deferred = 0;
+  for (int g = 0; g < ng; ++g) {
+    ContactGroup& G = rows_.group(g);
+    if (G.lambda.isZero(0.0) && rows_.separating(G, contacts, h)) {
+      ++stats_.deferred;
+      continue;
+    }
+    rows_.complete(g, LD, v);
+  }
+  v_free_ = v;
+  stats_.iterations = 0;
+  stats_.polish_rounds = 0;
+  bool converged = false;
+  constexpr int kLetIn = 4;  // solves with pairs let in before every waiting pair is let in
+  for (int pass = 0;; ++pass) {
+    for (int g = 0; g < ng; ++g)
+      if (rows_.group(g).complete) rows_.add(rows_.group(g), rows_.group(g).lambda, rows_.group(g).rows, z_);
+    converged = solveImpulses();
+    rows_.apply(LD, z_, v);
+    if (stats_.deferred == 0) break;
+    // A waiting pair whose end gap the solve's v+ closes comes in (all of them after kLetIn tries).
+    int let_in = 0;
+    for (int g = 0; g < ng; ++g) {
+      ContactGroup& G = rows_.group(g);
+      if (G.complete) continue;
+      bool crosses = pass >= kLetIn;
+      for (int k = 0; k < G.points && !crosses; ++k)
+        crosses = contacts[G.first + k].distance + h * rows_.normalSpeed(G, k, v) < -h * settings_.tolerance;
+      if (!crosses) continue;
+      rows_.complete(g, LD, v_free_);
+      --stats_.deferred;
+      ++let_in;
+    }
+    if (let_in == 0) break;
+    stats_.let_in += let_in;
+    v = v_free_;
+  }
   if (!converged) ++stats_.unconverged;
-  rows_.apply(LD, z_, v);
   report(contacts);
   // Positions: what still overlaps at the step's end closes (a bounce ends where it would have,
   // e (approach h - gap) above the surface), by a pseudo-velocity that no velocity keeps.
   bool any = false;
   for (int gi = 0; gi < ng; ++gi) {
     ContactGroup& g = rows_.group(gi);
+    if (!g.complete) continue;  // apart at the step's end: nothing to close
     for (int k = 0; k < g.points; ++k) {
       const Contact& c = contacts[g.first + k];
       const double end_gap = c.distance + h * rows_.normalSpeed(g, k, v);

@@ -68,6 +68,7 @@ SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tole
     double largest = 0.0;
     for (int gi = 0; gi < ng; ++gi) {
       ContactGroup& g = rows.group(gi);
+      if (!g.complete) continue;
       const int R = g.rows;
       const ContactRowVector u = g.b + rows.velocity(g, z, R);
       const ContactRowVector before = g.lambda;
@@ -95,6 +96,7 @@ SweepResult sweepPseudo(ContactRows& rows, VectorX& zs, int sweeps, double toler
     double largest = 0.0;
     for (int gi = 0; gi < ng; ++gi) {
       ContactGroup& g = rows.group(gi);
+      if (!g.complete) continue;
       const int P = g.points;
       ContactRowVector s = rows.velocity(g, zs, P);
       ContactRowVector delta = ContactRowVector::Zero();

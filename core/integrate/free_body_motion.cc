@@ -48,6 +48,9 @@ FreeBodyMotion::FreeBodyMotion(const Model& model) : gravity_(model.gravity) {
 }
 
 Vector3 FreeBodyMotion::backwardEuler(const Matrix3& I, const Vector3& w, double h) {
+  // A sphere, a spin about a principal axis, or a body all but at rest (h |w| below 1e-12: its
+  // gyroscopic change is below the round-off of w itself): w is the answer.
+  if (h * w.norm() < 1e-12 || w.cross(I * w).isZero(0.0)) return w;
   return newton(w, [&](const Vector3& x, Vector3& r, Matrix3& J) {
     const Vector3 Ix = I * x;
     r = I * (x - w) + h * x.cross(Ix);
@@ -56,6 +59,10 @@ Vector3 FreeBodyMotion::backwardEuler(const Matrix3& I, const Vector3& w, double
 }
 
 Vector3 FreeBodyMotion::midpoint(const Matrix3& I, const Vector3& w, double h, Vector3* wm) {
+  if (h * w.norm() < 1e-12 || w.cross(I * w).isZero(0.0)) {  // a steady spin, or at rest: w is the answer
+    *wm = w;
+    return w;
+  }
   const Vector3 wn = newton(w, [&](const Vector3& x, Vector3& r, Matrix3& J) {
     const Vector3 m = 0.5 * (w + x), Im = I * m;
     r = I * (x - w) + h * m.cross(Im);
