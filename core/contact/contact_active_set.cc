@@ -146,7 +146,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     const ContactGroup& g = group(m);
     int active = 0;
     for (int k = 0; k < g.points; ++k) active += g.active[k];
-    rows_guessed += active + (active > 0 && !g.sliding ? frictionRows(g) : 0);
+    rows_guessed += active + (active > 0 && !g.sliding && g.mu > 0.0 ? frictionRows(g) : 0);
   }
   if (rows_guessed > kPolishRows) return false;
   // The island's couplings W_mh, each member's to each other it shares a tree with, formed once for
@@ -197,52 +197,62 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
           loaded = true;
         }
       if (!loaded) g.sliding = false;
-      if (loaded && !g.sliding)
+      if (loaded && !g.sliding && g.mu > 0.0)  // frictionless: no friction, nothing to solve for
         for (int f = 0; f < F; ++f) g.unknown[P + f] = nx++;
     }
     if (nx > kPolishRows) return false;
     // M x = rhs: each unknown's row u_r = target_r (0 for friction), u = b + sum over the island of W lambda.
     if (nx > 0) {
       auto M = M_.topLeftCorner(nx, nx);
-      M.setZero();
       bool symmetric = true;  // no slipping friction: M is W's rows and columns of the unknowns
-      for (int m = 0; m < n; ++m) {
-        const ContactGroup& g = group(m);
-        symmetric = symmetric && !g.sliding;
-        auto add = [&](const ContactBlock& W, const ContactGroup& h) {
-          for (int r = 0; r < g.rows; ++r) {
-            const int row = g.unknown[r];
-            if (row < 0) continue;
-            for (int c = 0; c < h.rows; ++c) {
-              if (h.unknown[c] >= 0) {
-                M(row, h.unknown[c]) += W(r, c);
-              } else if (h.sliding && h.slide[c] != 0.0) {
-                for (int k = 0; k < h.points; ++k)
-                  if (h.unknown[k] >= 0) M(row, h.unknown[k]) += W(r, c) * h.slide[c];
+      auto assemble = [&] {
+        M.setZero();
+        for (int m = 0; m < n; ++m) {
+          const ContactGroup& g = group(m);
+          symmetric = symmetric && !g.sliding;
+          auto add = [&](const ContactBlock& W, const ContactGroup& h) {
+            for (int r = 0; r < g.rows; ++r) {
+              const int row = g.unknown[r];
+              if (row < 0) continue;
+              for (int c = 0; c < h.rows; ++c) {
+                if (h.unknown[c] >= 0) {
+                  M(row, h.unknown[c]) += W(r, c);
+                } else if (h.sliding && h.slide[c] != 0.0) {
+                  for (int k = 0; k < h.points; ++k)
+                    if (h.unknown[k] >= 0) M(row, h.unknown[k]) += W(r, c) * h.slide[c];
+                }
               }
             }
-          }
-        };
-        add(g.W, g);
-        forEachCoupled(m, add);
-        for (int r = 0; r < g.rows; ++r)
-          if (g.unknown[r] >= 0) rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
-      }
-      // Redundant normals (four corners carry three degrees of freedom) make M singular: a small
-      // regularisation picks the even split among them.
-      const double big = M.diagonal().cwiseAbs().maxCoeff();
-      M.diagonal().array() += 1e-12 * big + 1e-300;
+          };
+          add(g.W, g);
+          forEachCoupled(m, add);
+          for (int r = 0; r < g.rows; ++r)
+            if (g.unknown[r] >= 0) rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
+        }
+        // Redundant normals (four corners carry three degrees of freedom) make M singular: a small
+        // regularisation picks the even split among them.
+        const double big = M.diagonal().cwiseAbs().maxCoeff();
+        M.diagonal().array() += 1e-12 * big + 1e-300;
+      };
+      assemble();
       x_.head(nx) = rhs_.head(nx);
+      bool solved = false;
       if (symmetric) {
         // Symmetric positive definite: Cholesky, in place (Eigen's blocked LLT on a block of M_ and
-        // in-place triangular solves: nothing allocated), half an LU's work.
+        // in-place triangular solves: nothing allocated), half an LU's work. Redundant rows can leave
+        // a pivot at round-off's mercy: then LU on the matrix again.
         Eigen::LLT<Eigen::Ref<MatrixX>> llt(M);
-        if (llt.info() != Eigen::Success) return false;
-        llt.matrixL().solveInPlace(x_.head(nx));
-        llt.matrixU().solveInPlace(x_.head(nx));
-      } else if (!luSolve(nx)) {
-        return false;
+        if (llt.info() == Eigen::Success) {
+          llt.matrixL().solveInPlace(x_.head(nx));
+          llt.matrixU().solveInPlace(x_.head(nx));
+          solved = true;
+        } else {
+          ++factor_fallbacks_;
+          assemble();  // the factorisation overwrote M
+          x_.head(nx) = rhs_.head(nx);
+        }
       }
+      if (!solved && !luSolve(nx)) return false;
       if (!x_.head(nx).allFinite()) return false;
     }
     // The candidate impulses, then the velocities they give.
@@ -290,6 +300,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
         w[f] = g.trial_u[P + f] * scale[f];
       }
       const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
+      if (!(g.mu > 0.0)) continue;  // frictionless: its friction is zero, no condition
       if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
         candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
       } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {

@@ -6,6 +6,7 @@
 // where the sweeps need hundreds. Islands of more than kPolishRows unknowns are left to the sweeps.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/contact/contact_rows.h"
@@ -23,6 +24,9 @@ class ContactActiveSet {
   bool polish(ContactRows& rows, VectorX& z, double tolerance);
   // The last polish's rounds (dense solves), over its islands.
   int rounds() const { return rounds_; }
+  // Symmetric systems whose Cholesky failed (redundant rows at round-off's mercy) and went to LU, since
+  // the start.
+  int64_t factorFallbacks() const { return factor_fallbacks_; }
 
  private:
   bool polishIsland(ContactRows& rows, int n, double tolerance);  // members_[0 .. n): one island
@@ -36,6 +40,7 @@ class ContactActiveSet {
   VectorX zt_;  // the trial impulses' accumulator
   ContactBlock W_;
   int rounds_ = 0;
+  int64_t factor_fallbacks_ = 0;
   // One island's couplings, formed once per solve: member m's are cache_block_[first .. first + count).
   static constexpr int kCachedCouplings = 2048;
   std::vector<int> cache_first_, cache_count_, cache_group_;
