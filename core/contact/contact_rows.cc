@@ -160,7 +160,8 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
       g.approach[k] = -u0;
       // An impact that bounces: fast enough, and it reaches the surface within this step.
       g.bounce[k] = c.restitution > 0.0 && g.approach[k] > bounce_velocity && c.distance + h * g.b[k] < 0.0;
-      g.target[k] = g.bounce[k] ? c.restitution * g.approach[k] : -std::max(c.distance, 0.0) / h;
+      g.bounce_target[k] = c.restitution * g.approach[k];
+      g.target[k] = g.bounce[k] ? g.bounce_target[k] : -std::max(c.distance, 0.0) / h;
     }
     g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;

@@ -40,6 +40,7 @@ struct ContactGroup {
   ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
   ContactRowVector sigma;              // pseudo-impulses (normal rows)
   bool bounce[kMaxPairPoints] = {};
+  double bounce_target[kMaxPairPoints] = {};  // e times the approach speed (Newton's law), where it bounces
   double approach[kMaxPairPoints] = {};
   // The active-set solve's view (contact_active_set.h): which normals touch, whether the friction
   // sticks or slips (then lambda_row = slide[row] * sum of the normals), each row's unknown (-1: none).

@@ -47,6 +47,8 @@ struct ContactSolveStats {
   int polish_rounds = 0;       // the active-set solve's dense solves in the last solve
   int deferred = 0;            // pairs apart and not closing the last solve left out (contact_rows.h)
   int64_t let_in = 0;          // pairs left out that the solve's v+ pushed across, let in, since the start
+  int64_t restitution_scaled = 0;  // impacts whose restitution was scaled down to add no energy, since the start
+  int64_t energy_capped = 0;   // solves whose impulses, still adding energy, were scaled down (capEnergy), since the start
   double residual = 0.0;       // m/s: the largest velocity change of its last sweep
   int64_t unconverged = 0;     // solves that stopped at the sweep limit, since the start
 };
@@ -70,11 +72,15 @@ class ContactSolver {
   void report(ContactSet& contacts);
   bool anySliding() const;  // a friction at its cone's edge in the impulses as they stand
   bool solveImpulses();     // sweeps and active-set solves on the pairs in the solve; \return converged
+  double kineticGain(double* scale) const;  // the impulses' change of kinetic energy (scale: its terms' size)
+  bool keepEnergy();        // restitution scaled down where the impulses would add energy
+  void capEnergy();         // impulses that still would, scaled down
 
   ContactRows rows_;
   ContactActiveSet active_;
   VectorX z_, zs_;  // the impulses' and the pseudo-impulses' accumulators (contact_rows.h)
   VectorX v_free_;  // the solve's input, kept to solve again when a pair left out is let in
+  double restitution_scale_ = 1.0;  // the factor keepEnergy() took, for the bounce's position
   // The last step's contacts, for the warm start: pair, point, normal impulse; and per pair its
   // friction (world force at the centroid, torsion about the normal).
   struct Previous {
