@@ -84,12 +84,14 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
     g.centroid.setZero();
     Vector3 normal = Vector3::Zero();
     int touching = 0;
-    for (int k = i; k < end; ++k)
-      if (contacts[k].distance <= deepest + kPatchDepth) {
+    for (int k = i; k < end; ++k) {
+      g.carries[k - i] = contacts[k].distance <= deepest + kPatchDepth;
+      if (g.carries[k - i]) {
         g.centroid += contacts[k].point;
         normal += contacts[k].normal;
         ++touching;
       }
+    }
     g.centroid /= touching;
     g.n = normal.normalized();
     tangents(g.n, g.t1, g.t2);

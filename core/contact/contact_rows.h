@@ -40,6 +40,7 @@ struct ContactGroup {
   ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
   ContactRowVector sigma;              // pseudo-impulses (normal rows)
   bool bounce[kMaxPairPoints] = {};
+  bool carries[kMaxPairPoints] = {};  // the points that carry a patch's friction (its centroid's)
   double bounce_target[kMaxPairPoints] = {};  // e times the approach speed (Newton's law), where it bounces
   double approach[kMaxPairPoints] = {};
   // The active-set solve's view (contact_active_set.h): which normals touch, whether the friction

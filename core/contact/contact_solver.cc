@@ -71,14 +71,30 @@ void ContactSolver::report(ContactSet& contacts) {
   for (int gi = 0; gi < ng; ++gi) {
     const ContactGroup& g = rows_.group(gi);
     const int P = g.points;
-    double N = 0.0;
-    for (int k = 0; k < P; ++k) N += g.lambda[k];
     const Vector3 friction = g.lambda[P] * g.t1 + g.lambda[P + 1] * g.t2;
     const double torsion = g.patch ? g.lambda[P + 2] : 0.0;
+    // Each point's impulse: its normal one, and its part of the pair's friction, which acts at the
+    // centroid of the points that carry it (rows at the centroid): the force split evenly among them
+    // (no moment about the centroid: they surround it) and the torsion as tangential forces about it,
+    // tau (n x r_k) / sum |r_j|^2. So the points' impulses add up to the wrench the bodies took.
+    int carrying = 0;
+    double spread = 0.0;  // sum |r_j|^2 over the carrying points, r_j in the tangent plane
+    for (int k = 0; k < P; ++k) {
+      if (!g.carries[k]) continue;
+      ++carrying;
+      const Vector3 r = contacts[g.first + k].point - g.centroid;
+      spread += (r - r.dot(g.n) * g.n).squaredNorm();
+    }
     for (int k = 0; k < P; ++k) {
       Contact& c = contacts[g.first + k];
-      const double share = P == 1 ? 1.0 : (N > 0.0 ? g.lambda[k] / N : 0.0);
-      c.impulse = g.lambda[k] * c.normal + share * friction;
+      c.impulse = g.lambda[k] * c.normal;
+      if (g.carries[k] && carrying > 0) {
+        c.impulse += friction / carrying;
+        if (torsion != 0.0 && spread > 0.0) {
+          const Vector3 r = c.point - g.centroid;
+          c.impulse += (torsion / spread) * g.n.cross(r - r.dot(g.n) * g.n);
+        }
+      }
       previous_[static_cast<size_t>(g.first + k)] = Previous{c.geom_a, c.geom_b, c.point, g.lambda[k], friction, torsion};
     }
   }
@@ -281,8 +297,13 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
     }
   }
   v_position = v;
+  stats_.position_sweeps = 0;
+  stats_.position_residual = 0.0;
   if (!any) return;
-  sweepPseudo(rows_, zs_, settings_.iterations, settings_.tolerance);
+  const SweepResult pseudo = sweepPseudo(rows_, zs_, settings_.iterations, settings_.tolerance);
+  stats_.position_sweeps = pseudo.sweeps;
+  stats_.position_residual = pseudo.residual;
+  if (!pseudo.converged) ++stats_.position_unconverged;
   rows_.apply(LD, zs_, v_position);
 }
 

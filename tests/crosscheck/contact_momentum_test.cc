@@ -14,6 +14,7 @@
 #include "core/contact/contact_detection.h"
 #include "core/contact/contact_solver.h"
 #include "core/dynamics/forward_dynamics.h"
+#include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/test_models.h"
 
@@ -61,6 +62,44 @@ TEST(ContactMomentum, LegsStrikingEachOtherPutNoNetImpulseOnTheRobot) {
   ASSERT_GT(touching, 0) << "the legs meet";
   ASSERT_GT(largest, 1e-2);
   EXPECT_LT(worst, 1e-12 * largest + 1e-15);
+}
+
+TEST(ContactMomentum, APatchsPointImpulsesAddUpToTheWrenchItsBodyTook) {
+  // A box flat on the floor, sliding and spinning (its patch's friction and torsion both at work):
+  // the impulses IGMS_CONTACTS reports per point must add up to the change of the box's momentum
+  // (gravity's h m g aside) and their moments about its centre to the change of its spin.
+  Simulation sim(sceneText(
+      "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5}}\n"
+      "bodies: [{name: box, shape: box, size: [0.3, 0.2, 0.1], mass: 2, xyz: [0, 0, 0.05], v: [1, 0.5, 0], "
+      "w: [0, 0, 5], material: m}]\n"));
+  const double m = 2.0, Iz = m * (0.3 * 0.3 + 0.2 * 0.2) / 12.0, h = sim.scene().dt;
+  const ModelPart& part = sim.model().parts.front();
+  double force_error = 0.0, moment_error = 0.0, largest_moment = 0.0;
+  int sliding = 0;
+  for (int k = 0; k < 300; ++k) {
+    const FreeBodyState before = freeBodyState(part, sim.q(), sim.v());
+    ASSERT_TRUE(sim.step(nullptr));
+    const FreeBodyState after = freeBodyState(part, sim.q(), sim.v());
+    if (sim.contacts().n == 0 || before.w.norm() < 1e-3) continue;
+    ++sliding;
+    Vector3 force = Vector3::Zero();
+    double moment = 0.0;
+    for (int c = 0; c < sim.contacts().n; ++c) {
+      const Contact& ct = sim.contacts()[c];
+      const Vector3 on_box = ct.body_b >= 0 ? ct.impulse : Vector3(-ct.impulse);  // the box's side
+      force += on_box;
+      moment += (ct.point - before.p).cross(on_box).z();
+    }
+    force_error = std::max(force_error, (force - (m * (after.v - before.v) - h * m * sim.model().gravity)).norm());
+    moment_error = std::max(moment_error, std::abs(moment - Iz * (after.w.z() - before.w.z())));
+    largest_moment = std::max(largest_moment, std::abs(moment));
+  }
+  std::printf("a sliding, spinning box: %d steps; the points' impulses off the box's change of momentum by %.2e N s, "
+              "their moments off its change of spin by %.2e N m s (largest %.3e)\n",
+              sliding, force_error, moment_error, largest_moment);
+  ASSERT_GT(sliding, 50);
+  EXPECT_LT(force_error, 1e-12);
+  EXPECT_LT(moment_error, 1e-9 * largest_moment);
 }
 
 // A snake of n links (0.05 m apart, each a 2 cm ball of 0.1 kg, hinged about z) on a floating base.
