@@ -59,25 +59,16 @@ void solvePatch(ContactGroup& g, ContactRowVector u) {
   g.lambda.segment<3>(P) = l;
 }
 
-}  // namespace
-
-SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tolerance) {
+// Sweeps over the groups in the solve, `visit(g)` updating one and returning the largest velocity change
+// it made, until a sweep changes none by more than the tolerance or `sweeps` are done.
+template <typename Visit>
+SweepResult sweepGroups(ContactRows& rows, int sweeps, double tolerance, Visit&& visit) {
   SweepResult out;
-  const int ng = rows.size();
   for (int pass = 0; pass < sweeps; ++pass) {
     double largest = 0.0;
-    for (int gi = 0; gi < ng; ++gi) {
+    for (int gi = 0; gi < rows.size(); ++gi) {
       ContactGroup& g = rows.group(gi);
-      if (!g.complete) continue;
-      const int R = g.rows;
-      const ContactRowVector u = g.b + rows.velocity(g, z, R);
-      const ContactRowVector before = g.lambda;
-      if (g.patch) solvePatch(g, u);
-      else solvePoint(g, u);
-      const ContactRowVector delta = g.lambda - before;
-      if (delta.head(R).isZero(0.0)) continue;
-      rows.add(g, delta, R, z);
-      largest = std::max(largest, (g.W.topLeftCorner(R, R) * delta.head(R)).cwiseAbs().maxCoeff());
+      if (g.complete) largest = std::max(largest, visit(g));
     }
     ++out.sweeps;
     out.residual = largest;
@@ -89,37 +80,41 @@ SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tole
   return out;
 }
 
+}  // namespace
+
+SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tolerance) {
+  return sweepGroups(rows, sweeps, tolerance, [&](ContactGroup& g) {
+    const int R = g.rows;
+    const ContactRowVector u = g.b + rows.velocity(g, z, R);
+    const ContactRowVector before = g.lambda;
+    if (g.patch) solvePatch(g, u);
+    else solvePoint(g, u);
+    const ContactRowVector delta = g.lambda - before;
+    if (delta.head(R).isZero(0.0)) return 0.0;
+    rows.add(g, delta, R, z);
+    return (g.W.topLeftCorner(R, R) * delta.head(R)).cwiseAbs().maxCoeff();
+  });
+}
+
 SweepResult sweepPseudo(ContactRows& rows, VectorX& zs, int sweeps, double tolerance) {
-  SweepResult out;
-  const int ng = rows.size();
-  for (int pass = 0; pass < sweeps; ++pass) {
+  return sweepGroups(rows, sweeps, tolerance, [&](ContactGroup& g) {
+    const int P = g.points;
+    ContactRowVector s = rows.velocity(g, zs, P);
+    ContactRowVector delta = ContactRowVector::Zero();
     double largest = 0.0;
-    for (int gi = 0; gi < ng; ++gi) {
-      ContactGroup& g = rows.group(gi);
-      if (!g.complete) continue;
-      const int P = g.points;
-      ContactRowVector s = rows.velocity(g, zs, P);
-      ContactRowVector delta = ContactRowVector::Zero();
-      for (int k = 0; k < P; ++k) {
-        double sigma = g.sigma[k] - (s[k] - g.target[k]) / (g.W(k, k) + 1e-300);
-        if (!g.bounce[k]) sigma = std::max(0.0, sigma);
-        const double d = sigma - g.sigma[k];
-        if (d == 0.0) continue;
-        s.head(P) += g.W.col(k).head(P) * d;
-        largest = std::max(largest, std::abs(g.W(k, k) * d));
-        g.sigma[k] = sigma;
-        delta[k] = d;
-      }
-      rows.add(g, delta, P, zs);
+    for (int k = 0; k < P; ++k) {
+      double sigma = g.sigma[k] - (s[k] - g.target[k]) / (g.W(k, k) + 1e-300);
+      if (!g.bounce[k]) sigma = std::max(0.0, sigma);
+      const double d = sigma - g.sigma[k];
+      if (d == 0.0) continue;
+      s.head(P) += g.W.col(k).head(P) * d;
+      largest = std::max(largest, std::abs(g.W(k, k) * d));
+      g.sigma[k] = sigma;
+      delta[k] = d;
     }
-    ++out.sweeps;
-    out.residual = largest;
-    if (largest <= tolerance) {
-      out.converged = true;
-      break;
-    }
-  }
-  return out;
+    rows.add(g, delta, P, zs);
+    return largest;
+  });
 }
 
 }  // namespace igms

@@ -32,29 +32,39 @@ inline double squaredDistanceToBox(const Vector3& p, const Vector3& lo, const Ve
   return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();
 }
 
-// Every triangle whose box comes within `radius` of p, in a fixed order: visit(triangle).
+// Walks the hierarchy from p, the nearer child first, skipping a box farther than sqrt(*reach2): the
+// bound is read at each box, so visit(triangle) may shrink it (the nearest point's search).
 template <typename Visit>
-void forEachTriangleNear(const TriangleMesh& mesh, const Vector3& p, double radius, Visit&& visit) {
+void walkNear(const TriangleMesh& mesh, const Vector3& p, const double* reach2, Visit&& visit) {
   const TriangleBvh& bvh = mesh.bvh;
   if (bvh.empty()) {
     for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) visit(t);
     return;
   }
-  const double r2 = radius * radius;
   int stack[TriangleBvh::kMaxDepth + 1];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const int at = stack[--top];
     const TriangleBvh::Node& node = bvh.nodes[static_cast<size_t>(at)];
-    if (squaredDistanceToBox(p, node.lo, node.hi) > r2) continue;
+    if (squaredDistanceToBox(p, node.lo, node.hi) > *reach2) continue;
     if (node.count > 0) {
       for (int k = node.first; k < node.first + node.count; ++k) visit(bvh.order[static_cast<size_t>(k)]);
       continue;
     }
-    stack[top++] = node.second;
-    stack[top++] = at + 1;
+    const int a = at + 1, b = node.second;
+    const TriangleBvh::Node &na = bvh.nodes[static_cast<size_t>(a)], &nb = bvh.nodes[static_cast<size_t>(b)];
+    const bool a_first = squaredDistanceToBox(p, na.lo, na.hi) <= squaredDistanceToBox(p, nb.lo, nb.hi);
+    stack[top++] = a_first ? b : a;
+    stack[top++] = a_first ? a : b;
   }
+}
+
+// Every triangle whose box comes within `radius` of p, in a fixed order: visit(triangle).
+template <typename Visit>
+void forEachTriangleNear(const TriangleMesh& mesh, const Vector3& p, double radius, Visit&& visit) {
+  const double reach2 = radius * radius;
+  walkNear(mesh, p, &reach2, visit);
 }
 
 // The surface point nearest p within max_distance (found = false: none that near).

@@ -251,31 +251,24 @@ TEST(ShapeContacts, FlatContactsGetSeveralPoints) {
   // of three logs slid apart at mu 0.3, above its 2 - sqrt 3 = 0.27).
   const CollisionShape log = shape(Kind::Cylinder, 0.1, 0.4);
   const Matrix3 along_y = Eigen::AngleAxisd(M_PI / 2, Vector3::UnitX()).toRotationMatrix();
+  // m points at zero gap spanning the log's 0.4 m along y: the two ends of its line.
+  auto expectLineEnds = [&](int m, const char* what, double gap) {
+    ASSERT_GE(m, 2) << what;
+    double lo = 1.0, hi = -1.0;
+    for (int k = 0; k < m; ++k) {
+      EXPECT_NEAR(pts[k].distance, 0.0, gap) << what;
+      lo = std::min(lo, pts[k].point.y());
+      hi = std::max(hi, pts[k].point.y());
+    }
+    EXPECT_NEAR(hi - lo, 0.4, 1e-9) << what << ": the line's two ends";
+  };
   const SE3 on_table{along_y, Vector3(0.05, 0.0, 0.1)};
-  for (const bool log_first : {true, false}) {
-    const int m = log_first ? shapeContacts(log, on_table, shape(Kind::Box, 1.0, 1.0, 0.1), table, 1e-3, pts)
-                            : shapeContacts(shape(Kind::Box, 1.0, 1.0, 0.1), table, log, on_table, 1e-3, pts);
-    ASSERT_GE(m, 2) << "a log on a box, the log " << (log_first ? "first" : "second");
-    double lo = 1.0, hi = -1.0;
-    for (int k = 0; k < m; ++k) {
-      EXPECT_NEAR(pts[k].distance, 0.0, 1e-12);
-      lo = std::min(lo, pts[k].point.y());
-      hi = std::max(hi, pts[k].point.y());
-    }
-    EXPECT_NEAR(hi - lo, 0.4, 1e-9) << "the line's two ends";
-  }
+  expectLineEnds(shapeContacts(log, on_table, shape(Kind::Box, 1.0, 1.0, 0.1), table, 1e-3, pts), "a log on a box", 1e-12);
+  expectLineEnds(shapeContacts(shape(Kind::Box, 1.0, 1.0, 0.1), table, log, on_table, 1e-3, pts), "a box under a log",
+                 1e-12);
   const SE3 lower{along_y, Vector3(0.1, 0.0, 0.1)}, upper{along_y, Vector3(0.0, 0.0, 0.1 + 0.2 * std::sin(M_PI / 3))};
-  for (const bool upper_first : {true, false}) {
-    const int m = upper_first ? shapeContacts(log, upper, log, lower, 1e-3, pts) : shapeContacts(log, lower, log, upper, 1e-3, pts);
-    ASSERT_GE(m, 2) << "a log on a log";
-    double lo = 1.0, hi = -1.0;
-    for (int k = 0; k < m; ++k) {
-      EXPECT_NEAR(pts[k].distance, 0.0, 1e-9);
-      lo = std::min(lo, pts[k].point.y());
-      hi = std::max(hi, pts[k].point.y());
-    }
-    EXPECT_NEAR(hi - lo, 0.4, 1e-9) << "the line's two ends";
-  }
+  expectLineEnds(shapeContacts(log, upper, log, lower, 1e-3, pts), "a log on a log", 1e-9);
+  expectLineEnds(shapeContacts(log, lower, log, upper, 1e-3, pts), "a log under a log", 1e-9);
 }
 
 TEST(ShapeContacts, AlignedFacesTouchAlongTheFaceNormalExactly) {
