@@ -15,7 +15,7 @@
 //     tangents there, |lambda_t| <= mu lambda_n; a pair that touches at several (a box on the
 //     floor, a sole) has one friction for the whole patch at the points' centroid, two tangents
 //     and a torsion about the normal, inside the ellipsoid (|f_t| / mu N)^2 + (tau / mu N r)^2
-//     <= 1 (N the patch's normal load, r its load-weighted mean radius; the ellipsoidal limit
+//     <= 1 (N the patch's normal load, r its mean radius under uniform pressure; the ellipsoidal limit
 //     surface of Howe and Cutkosky). Either way: stick (zero slip) inside, and at the edge the
 //     friction opposite the slip (maximal dissipation). One friction per patch has no internal
 //     tangential forces between its points (four corners' frictions would fight in their null

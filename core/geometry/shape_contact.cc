@@ -243,6 +243,74 @@ void capsules(const CollisionShape& a, const SE3& pa, const CollisionShape& b, c
   samplesAgainst(b, pb, a, pa, margin, c, false);
 }
 
+// Two boxes touching face to face, or a face over an edge: the part of one box's face (the incident
+// face, the one most against the normal) that lies over the other's (the reference face, the one most
+// along it), clipped to the reference face's rectangle (Sutherland-Hodgman), each corner of what is
+// left with its depth below the reference face. The corners of the two boxes alone miss it where
+// neither box's corner is in the contact: two boxes crossed, a box tipping over a table's edge.
+void boxFaces(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb, const Vector3& n,
+              double margin, Candidates& c) {
+  // The face of a box most along direction d: its axis k and side (+1 / -1).
+  auto faceAlong = [](const SE3& p, const Vector3& d, int* axis, double* side, double* how) {
+    *how = -1.0;
+    for (int k = 0; k < 3; ++k) {
+      const double dot = p.R.col(k).dot(d);
+      if (std::abs(dot) > *how) {
+        *how = std::abs(dot);
+        *axis = k;
+        *side = dot > 0.0 ? 1.0 : -1.0;
+      }
+    }
+  };
+  int ra = 0, ib = 0;
+  double sa = 1.0, sb = 1.0, how_a = 0.0, how_b = 0.0;
+  faceAlong(pa, n, &ra, &sa, &how_a);   // a's face toward b
+  faceAlong(pb, -n, &ib, &sb, &how_b);  // b's face toward a
+  // The face better aligned with the normal is the reference; the other is clipped against it. Only
+  // where the normal is that face's own (snappedToFace made it so): along any other normal a depth
+  // below the face is not the depth along the normal.
+  if (std::max(how_a, how_b) < 1.0 - 1e-12) return;
+  const bool a_refers = how_a >= how_b;
+  const CollisionShape &ref = a_refers ? a : b, &inc = a_refers ? b : a;
+  const SE3 &pr = a_refers ? pa : pb, &pi = a_refers ? pb : pa;
+  const int rk = a_refers ? ra : ib, ik = a_refers ? ib : ra;
+  const double rs = a_refers ? sa : sb, is = a_refers ? sb : sa;
+  const Vector3 hr = 0.5 * ref.size, hi = 0.5 * inc.size;
+  const Vector3 ref_normal = rs * pr.R.col(rk);  // outward, toward the other box
+  const Vector3 ref_centre = pr.p + hr[rk] * ref_normal;
+  // The incident face's corners (world), in order round it.
+  const int i1 = (ik + 1) % 3, i2 = (ik + 2) % 3;
+  Vector3 poly[8], next[8];
+  int m = 0;
+  const Vector3 face_centre = pi.p + is * hi[ik] * pi.R.col(ik);
+  for (const auto& [u, v] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}})
+    poly[m++] = face_centre + u * hi[i1] * pi.R.col(i1) + v * hi[i2] * pi.R.col(i2);
+  // Clipped by the reference face's four side planes.
+  const int r1 = (rk + 1) % 3, r2 = (rk + 2) % 3;
+  for (const int axis : {r1, r2})
+    for (const double side : {1.0, -1.0}) {
+      const Vector3 out = side * pr.R.col(axis);
+      const double limit = out.dot(pr.p) + hr[axis];
+      int k = 0;
+      for (int e = 0; e < m; ++e) {
+        const Vector3 &p = poly[e], &q = poly[(e + 1) % m];
+        const double dp = out.dot(p) - limit, dq = out.dot(q) - limit;
+        if (dp <= 0.0) next[k++] = p;
+        if ((dp < 0.0) != (dq < 0.0) && dp != dq) next[k++] = p + (q - p) * (dp / (dp - dq));
+      }
+      m = std::min(k, 8);
+      for (int e = 0; e < m; ++e) poly[e] = next[e];
+    }
+  // What is left, below the reference face by less than the margin: a contact each.
+  for (int e = 0; e < m; ++e) {
+    const double depth = ref_normal.dot(poly[e] - ref_centre);
+    if (depth >= margin) continue;
+    const Vector3 on_ref = poly[e] - depth * ref_normal;
+    if (a_refers) c.add(on_ref, poly[e], n, depth);
+    else c.add(poly[e], on_ref, n, depth);
+  }
+}
+
 // GJK/EPA's normal, or the face normal it estimates: where a box's face or a cylinder's cap lies on the
 // other shape, EPA finds the face's normal only to its tolerance (1e-8 to 1e-6 off), and each step's
 // error, as a tangential push on a stack that nothing else pushes sideways, tips it over in time. A face
@@ -381,6 +449,7 @@ int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& 
     // d.normal points from a toward b: a's rim points farthest that way, b's farthest back.
     extremeRimPoints(a, pa, d.normal, b, pb, margin, c, true);
     extremeRimPoints(b, pb, -d.normal, a, pa, margin, c, false);
+    if (a.kind == Kind::Box && b.kind == Kind::Box) boxFaces(a, pa, b, pb, d.normal, margin, c);
     for (int k = first; k < c.n; ++k) c.p[k].normal = d.normal;
   }
   return reduce(c, out);

@@ -59,6 +59,20 @@ Vector3 forceOnWorld(const Simulation& sim) {
   return f / sim.scene().dt;
 }
 
+// The total contact force on a free body, N.
+Vector3 contactForceOn(const Simulation& sim, const std::string& name) {
+  int index = -1;
+  for (const ModelPart& part : sim.model().parts)
+    if (part.name == name) index = part.body_begin;
+  Vector3 f = Vector3::Zero();
+  for (int k = 0; k < sim.contacts().n; ++k) {
+    const Contact& c = sim.contacts()[k];
+    if (c.body_b == index) f += c.impulse;
+    if (c.body_a == index) f -= c.impulse;
+  }
+  return f / sim.scene().dt;
+}
+
 TEST(ContactAnalytic, ARestingBoxIsCarriedAndStill) {
   Simulation sim(sceneText("ground: true\nbodies: [{name: box, shape: box, size: [0.3, 0.2, 0.1], mass: 2.5, xyz: [0.1, 0.2, 0.05]}]\n"));
   run(sim, 2.0);
@@ -198,6 +212,56 @@ TEST(ContactAnalytic, ADroppedBallReboundsToEToTheSquare) {
   }
 }
 
+// The mean distance from the centre of an a x b rectangle over its area, by a fine midpoint rule.
+double meanRadius(double a, double b) {
+  const int n = 2000;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) sum += std::hypot(a * ((i + 0.5) / n - 0.5), b * ((j + 0.5) / n - 0.5));
+  return sum / (static_cast<double>(n) * n);
+}
+
+// How long the body takes to stop spinning about z (|w| below 1e-9), s.
+double spinDown(Simulation& sim, const char* name) {
+  for (int k = 1; k <= 20000; ++k) {
+    EXPECT_TRUE(sim.step(nullptr));
+    if (body(sim, name).w.norm() < 1e-9) return k * sim.scene().dt;
+  }
+  return INFINITY;
+}
+
+TEST(ContactAnalytic, ABoxSpinningFlatStopsWhenUniformPressureSays) {
+  // Coulomb friction under uniform pressure over the face: a torque mu m g r, r the face's mean
+  // distance from its centre, so w falls at mu m g r / I_z and stops at w0 I_z / (mu m g r).
+  const double a = 0.3, b = 0.2, m = 2.0, mu = 0.5, w0 = 5.0;
+  Simulation sim(sceneText(
+      "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5}}\n"
+      "bodies: [{name: box, shape: box, size: [0.3, 0.2, 0.1], mass: 2, xyz: [0, 0, 0.05], w: [0, 0, 5], material: m}]\n"));
+  const double Iz = m * (a * a + b * b) / 12.0, r = meanRadius(a, b);
+  const double expected = w0 * Iz / (mu * m * g * r);
+  const double stop = spinDown(sim, "box");
+  std::printf("box spinning flat: stops at %.4f s (uniform pressure: %.4f s, r = %.5f m; at the corners' %.5f m "
+              "it would stop at %.4f s)\n",
+              stop, expected, r, 0.5 * std::hypot(a, b), w0 * Iz / (mu * m * g * 0.5 * std::hypot(a, b)));
+  EXPECT_NEAR(stop, expected, 0.02 * expected);
+  EXPECT_LT(body(sim, "box").p.head<2>().norm(), 1e-9) << "a pure spin: its centre stays";
+}
+
+TEST(ContactAnalytic, ALogSpinningOnItsSideStopsWhenUniformLineLoadSays) {
+  // A cylinder lying down touches along a line of its length L: uniform load along it gives a torque
+  // mu m g L / 4 about the vertical.
+  const double r = 0.05, L = 0.4, m = 1.0, mu = 0.5, w0 = 4.0;
+  Simulation sim(sceneText(
+      "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5}}\n"
+      "bodies: [{name: log, shape: cylinder, radius: 0.05, length: 0.4, mass: 1, xyz: [0, 0, 0.05], "
+      "rpy: [1.5707963267948966, 0, 0], w: [0, 0, 4], material: m}]\n"));
+  const double I = m * (3 * r * r + L * L) / 12.0;  // about a diameter through its centre
+  const double expected = w0 * I / (mu * m * g * L / 4.0);
+  const double stop = spinDown(sim, "log");
+  std::printf("log spinning on its side: stops at %.4f s (uniform line load: %.4f s)\n", stop, expected);
+  EXPECT_NEAR(stop, expected, 0.02 * expected);
+}
+
 // Still: every free body's speed below 1e-6 m/s, overlap within 0.1 mm, for 10 s.
 void expectStill(const char* name) {
   Simulation sim(shipped(name));
@@ -314,9 +378,14 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
               ball.p.z(), a.p.z(), b.p.z(), turned(a), turned(b), std::abs(sim.q()[go1_z] - trunk_at_4), overlap);
   EXPECT_NEAR(ball.p.z(), floor + half, 1e-4) << "the ball was knocked off the table onto the floor";
   EXPECT_NEAR(a.p.z(), table_top + half, 1e-4) << "box_a lies on the table";
-  EXPECT_NEAR(b.p.z(), table_top + half, 1e-4) << "box_b lies on the table";
+  // box_b, knocked over the table's far edge, ends pinned between the arm's forearm and that edge:
+  // not on the table, and not inside it (its corners below the top are beyond the edge).
+  EXPECT_GT(b.p.z(), table_top + half - 1e-4) << "box_b is not pushed into the table";
   EXPECT_GT(std::max(turned(a), turned(b)), 0.8) << "the arm knocked a box over";
   for (const FreeBodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
+  // At rest, each box's contacts carry its weight, whatever they are.
+  for (const char* name : {"box_a", "box_b"})
+    EXPECT_LT((contactForceOn(sim, name) - Vector3(0, 0, 0.3 * g)).norm(), 1e-6 * 0.3 * g) << name;
   // Nothing resists rolling here, so the ball rolls on along the floor: without slipping.
   const Vector3 slip = ball.v + ball.w.cross(Vector3(0, 0, -half));
   std::printf("the ball rolls at %.3f m/s, its contact point slips at %.2e m/s\n", ball.v.norm(), slip.norm());

@@ -294,6 +294,39 @@ TEST(ShapeContacts, AlignedFacesTouchAlongTheFaceNormalExactly) {
   EXPECT_LT(worst, 1e-12);
 }
 
+TEST(ShapeContacts, ABoxTippedOverATablesEdgeRestsOnThatEdge) {
+  // A box tipped over a table's edge, its face across the edge and 1 mm into it, no corner of either box
+  // in the other: the contact is the edge's stretch under the face, both its ends at the face's depth.
+  // (The corners alone found one point, or none, and the box sank into the edge as it turned: 0.49 mm in
+  // workcell.yaml.)
+  const SE3 table{Matrix3::Identity(), Vector3(0, 0, 0)};  // its top at z = 0.05, its edge at y = 0.5
+  ContactPoint pts[kMaxPairPoints];
+  for (const double tilt : {0.05, 0.3, 0.7}) {
+    const Matrix3 R = Eigen::AngleAxisd(-tilt, Vector3::UnitX()).toRotationMatrix();  // its face falls outward
+    const double depth = 1e-3;
+    const Vector3 face_centre = Vector3(0.0, 0.5, 0.05) + 0.03 * R.col(1) - depth * R.col(2);
+    const SE3 box{R, face_centre + 0.1 * R.col(2)};
+    for (const bool table_first : {true, false}) {
+      const int n = table_first
+                        ? shapeContacts(shape(Kind::Box, 1.0, 1.0, 0.1), table, shape(Kind::Box, 0.2, 0.2, 0.2), box, 1e-3, pts)
+                        : shapeContacts(shape(Kind::Box, 0.2, 0.2, 0.2), box, shape(Kind::Box, 1.0, 1.0, 0.1), table, 1e-3, pts);
+      ASSERT_GE(n, 2) << "tilt " << tilt;
+      const Vector3 up = table_first ? R.col(2) : Vector3(-R.col(2));  // from a toward b
+      // The edge's two ends under the face, exact; any other point (EPA's) within its 2e-7.
+      int ends = 0;
+      for (int k = 0; k < n; ++k) {
+        const bool end = std::abs(std::abs(pts[k].point.x()) - 0.1) < 1e-12;
+        const double tol = end ? 1e-12 : 2e-7;
+        ends += end;
+        EXPECT_NEAR(pts[k].distance, -depth, tol) << "tilt " << tilt;
+        EXPECT_LT((pts[k].normal - up).norm(), 1e-12);
+        EXPECT_NEAR(pts[k].point.y(), 0.5 - 0.5 * depth * std::sin(tilt), tol) << "on the edge";
+      }
+      EXPECT_EQ(ends, 2) << "the edge's stretch under the face, from end to end";
+    }
+  }
+}
+
 TEST(ShapeContacts, AllocatesNothing) {
   const auto shapes = primitives();
   std::mt19937 rng(3);
