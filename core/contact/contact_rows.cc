@@ -44,8 +44,11 @@ double patchRadius(const ContactSet& contacts, int first, int end, const Contact
   if (n < 2) return 0.0;
   // Around the centroid by angle: the points' polygon (up to four: convex as the detection spreads them).
   int order[kMaxPairPoints];
-  for (int k = 0; k < n; ++k) order[k] = k;
-  std::sort(order, order + n, [&](int a, int b) { return angle[a] < angle[b]; });
+  for (int k = 0; k < n; ++k) {  // insertion sort: a handful of points
+    int j = k;
+    for (; j > 0 && angle[order[j - 1]] > angle[k]; --j) order[j] = order[j - 1];
+    order[j] = k;
+  }
   double area = 0.0, moment = 0.0;  // the polygon's area and the integral of |r| over it
   for (int k = 0; n > 2 && k < n; ++k) {
     const int a = order[k], b = order[(k + 1) % n];
@@ -190,6 +193,7 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
     g.b.setZero();
     g.target.setZero();
     g.sigma.setZero();
+    g.impact.setZero();
     for (int r = 0; r < P; ++r) {
       const double* const J = J_.data() + value + r * count;
       double b = 0.0;
@@ -236,7 +240,9 @@ void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
     double* const J = J_.data() + g.first_value;
     for (int r = P; r < g.rows; ++r) J[r * g.entries + e] = sign_of_[static_cast<size_t>(g.first_entry + e)] * row[r - P].dot(S);
   }
-  for (int r = P; r < g.rows; ++r) {
+  // Every row's velocity under v_free (the normals' again: the solve may have moved v_free since
+  // build(), passing impacts along; the same sum as build()'s where it has not).
+  for (int r = 0; r < g.rows; ++r) {
     const double* const J = J_.data() + g.first_value + r * g.entries;
     double b = 0.0;
     for (int e = 0; e < g.entries; ++e) b += J[e] * v_free[dof_[static_cast<size_t>(g.first_entry + e)]];

@@ -39,6 +39,7 @@ struct ContactGroup {
   double friction_step = 0.0;  // 1 / (a bound on the largest eigenvalue of the scaled friction block)
   ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
   ContactRowVector sigma;              // pseudo-impulses (normal rows)
+  ContactRowVector impact;             // impulses of the impacts passed along first (contact_impacts.h)
   bool bounce[kMaxPairPoints] = {};
   bool carries[kMaxPairPoints] = {};  // the points that carry a patch's friction (its centroid's)
   double bounce_target[kMaxPairPoints] = {};  // e times the approach speed (Newton's law), where it bounces

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/contact/contact_impacts.h"
 #include "core/contact/contact_sweep.h"
 
 namespace igms {
@@ -71,8 +72,10 @@ void ContactSolver::report(ContactSet& contacts) {
   for (int gi = 0; gi < ng; ++gi) {
     const ContactGroup& g = rows_.group(gi);
     const int P = g.points;
-    const Vector3 friction = g.lambda[P] * g.t1 + g.lambda[P + 1] * g.t2;
-    const double torsion = g.patch ? g.lambda[P + 2] : 0.0;
+    // What the bodies took: the solve's impulses and any impacts passed along before it.
+    const ContactRowVector taken = g.impact.isZero(0.0) ? g.lambda : ContactRowVector(g.lambda + g.impact);
+    const Vector3 friction = taken[P] * g.t1 + taken[P + 1] * g.t2;
+    const double torsion = g.patch ? taken[P + 2] : 0.0;
     // Each point's impulse: its normal one, and its part of the pair's friction, which acts at the
     // centroid of the points that carry it (rows at the centroid): the force split evenly among them
     // (no moment about the centroid: they surround it) and the torsion as tangential forces about it,
@@ -87,7 +90,7 @@ void ContactSolver::report(ContactSet& contacts) {
     }
     for (int k = 0; k < P; ++k) {
       Contact& c = contacts[g.first + k];
-      c.impulse = g.lambda[k] * c.normal;
+      c.impulse = taken[k] * c.normal;
       if (g.carries[k] && carrying > 0) {
         c.impulse += friction / carrying;
         if (torsion != 0.0 && spread > 0.0) {
@@ -247,6 +250,32 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
   bool bounces = false;
   for (int g = 0; g < ng && !bounces; ++g)
     for (int k = 0; k < rows_.group(g).points; ++k) bounces = bounces || rows_.group(g).bounce[k];
+  // Impacts that can pass along a chain are passed along first, pair by pair (contact_impacts.h); the
+  // solve then starts from the velocity they leave, its contacts plastic.
+  stats_.impact_rounds = 0;
+  if (bounces && impactsCanPass(rows_)) {
+    for (int g = 0; g < ng; ++g)  // a pair waiting outside may be struck: all of them in
+      if (!rows_.group(g).complete) rows_.complete(g, LD, v);
+    stats_.deferred = 0;
+    const ImpactPassing passing =
+        passImpacts(rows_, contacts, h, settings_.bounce_velocity, settings_.iterations, settings_.tolerance, z_);
+    if (passing.ran) {
+      stats_.impact_rounds = passing.rounds;
+      stats_.restitution_scaled += passing.scaled;
+      for (int gi = 0; gi < ng; ++gi) {
+        ContactGroup& g = rows_.group(gi);
+        if (!g.complete) continue;
+        g.b.head(g.rows) += rows_.velocity(g, z_, g.rows);
+        for (int k = 0; k < g.points; ++k) {
+          g.bounce[k] = false;
+          g.target[k] = -std::max(contacts[g.first + k].distance, 0.0) / h;
+        }
+      }
+      rows_.apply(LD, z_, v);
+      v_free_ = v;
+      bounces = false;
+    }
+  }
   bool converged = false;
   constexpr int kLetIn = 4;  // solves with pairs let in before every waiting pair is let in
   for (int pass = 0;; ++pass) {

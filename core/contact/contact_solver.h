@@ -48,6 +48,7 @@ struct ContactSolveStats {
   int deferred = 0;            // pairs apart and not closing the last solve left out (contact_rows.h)
   int64_t let_in = 0;          // pairs left out that the solve's v+ pushed across, let in, since the start
   int64_t restitution_scaled = 0;  // impacts whose restitution was scaled down to add no energy, since the start
+  int impact_rounds = 0;           // the last solve's rounds of impacts passed along (contact_impacts.h; 0: none)
   int position_sweeps = 0;         // the position correction's sweeps in the last solve (0: nothing overlapped)
   double position_residual = 0.0;  // m/s: their last sweep's largest change
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit, since the start

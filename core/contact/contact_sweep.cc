@@ -96,6 +96,20 @@ SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tole
   });
 }
 
+bool solveGroupAlone(ContactGroup& g, const ContactRowVector& u, int sweeps, double tolerance) {
+  const int R = g.rows;
+  for (int pass = 0; pass < sweeps; ++pass) {
+    const ContactRowVector before = g.lambda;
+    ContactRowVector now = u;
+    now.head(R) += g.W.topLeftCorner(R, R) * g.lambda.head(R);
+    if (g.patch) solvePatch(g, now);
+    else solvePoint(g, now);
+    const ContactRowVector delta = g.lambda - before;
+    if ((g.W.topLeftCorner(R, R) * delta.head(R)).cwiseAbs().maxCoeff() <= tolerance) return true;
+  }
+  return false;
+}
+
 SweepResult sweepPseudo(ContactRows& rows, VectorX& zs, int sweeps, double tolerance) {
   return sweepGroups(rows, sweeps, tolerance, [&](ContactGroup& g) {
     const int P = g.points;

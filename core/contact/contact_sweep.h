@@ -20,6 +20,11 @@ struct SweepResult {
 // by more than `tolerance`. z holds D^-1 sum X lambda before and after.
 SweepResult sweepImpulses(ContactRows& rows, VectorX& z, int sweeps, double tolerance);
 
+// Group g's own problem with every other impulse held (u: its velocity without its own impulse, its
+// targets in g.target): block solves from g.lambda until one changes its velocity by no more than
+// `tolerance`, at most `sweeps`. \return converged.
+bool solveGroupAlone(ContactGroup& g, const ContactRowVector& u, int sweeps, double tolerance);
+
 // The position correction's pseudo-impulses sigma (normal rows only, targets in g.target): each >= 0
 // but where a bounce sets the end gap (free sign). zs: their accumulator, zero before.
 SweepResult sweepPseudo(ContactRows& rows, VectorX& zs, int sweeps, double tolerance);
