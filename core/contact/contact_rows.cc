@@ -9,6 +9,7 @@ namespace igms {
 
 namespace {
 
+constexpr double kPatchCosine = 0.9396926207859084;  // cos 20 deg: a pair's normals this near are one patch's
 constexpr double kPatchDepth = 1e-4;  // m: a patch's points this near the deepest carry its friction
 
 // Two unit tangents completing n, a function of n alone.
@@ -115,8 +116,13 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
   std::fill(tree_count_.begin(), tree_count_.end(), 0);
   int ng = 0, entry = 0, value = 0;
   for (int i = 0; i < nc;) {
+    // A group: the pair's next points whose normals agree with its first (one flat patch). Points of
+    // one pair facing other ways (a peg between a slot's two walls: normals that cancel when averaged)
+    // are groups of their own, each with its own friction.
     int end = i + 1;
-    while (end < nc && contacts[end].geom_a == contacts[i].geom_a && contacts[end].geom_b == contacts[i].geom_b) ++end;
+    while (end < nc && contacts[end].geom_a == contacts[i].geom_a && contacts[end].geom_b == contacts[i].geom_b &&
+           contacts[end].normal.dot(contacts[i].normal) > kPatchCosine)
+      ++end;
     ContactGroup& g = groups_[static_cast<size_t>(ng++)];
     const Contact& c0 = contacts[i];
     g.first = i;

@@ -217,5 +217,43 @@ TEST(MeshRest, ABallWedgedInAGrooveIsHeldByBothWalls) {
   EXPECT_LE(worst, 1e-4);
 }
 
+TEST(MeshRest, APegInAUChannelSlotComesDownOntoItsFloor) {
+  // A box peg lowered into the U channel's slot (0.1 m wide, 0.15 m deep, its floor 0.05 m below the
+  // channel's origin), with the channel at three heights: a peg 0.5 mm narrower than the slot, one as
+  // wide, and ones pressed in (0.2 and 0.4 mm wider: its corners inside both walls the whole way
+  // down). One pair (peg, channel) then has points on both walls, normals that cancel when averaged:
+  // averaged into one patch, the pressed peg fell through the channel's floor (to z -9.3 m in 1.5 s).
+  // Each facing is now a patch of its own. Rigid bodies cannot say how hard an interference fit
+  // squeezes, so the pressed peg need not stay up; it must come down onto the floor, not through it.
+  for (const double width : {0.0995, 0.1, 0.1002, 0.1004})
+    for (const double at : {0.0, 0.1, 0.37}) {
+      char yaml[768];
+      std::snprintf(yaml, sizeof yaml,
+                    "materials: {m: {friction: 0.5}}\n"
+                    "obstacles: [{name: u, shape: mesh, file: ../models/meshes/u_channel.obj, xyz: [0, 0, %.17g], "
+                    "solid: true, material: m}]\n"
+                    "bodies: [{name: peg, shape: box, size: [%.17g, 0.06, 0.06], mass: 0.5, xyz: [0, 0, %.17g], "
+                    "material: m}]\n",
+                    at, width, at + 0.05);
+      Simulation sim(sceneText(yaml));
+      double lowest = 1.0;
+      for (int k = 1; k <= 1500; ++k) {
+        ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+        lowest = std::min(lowest, sim.q()[2] - at);
+      }
+      const double rest = -0.05 + 0.03;  // the slot's floor plus the peg's half height
+      std::printf("peg %.4f m wide in the 0.1 m slot, channel at z %.2f: ends %+.2e m from the floor, lowest %+.2e m\n",
+                  width, at, sim.q()[2] - at - rest, lowest - rest);
+      if (width <= 0.1) {
+        EXPECT_NEAR(sim.q()[2] - at, rest, 1e-4) << width << " at " << at << ": on the floor";
+        EXPECT_GT(lowest, rest - 1e-4) << width << " at " << at;
+        EXPECT_LT(sim.v().norm(), 1e-3) << width << " at " << at << ": at rest";
+      } else {
+        EXPECT_GT(lowest, rest - 2.5e-3) << width << " at " << at << ": not through the floor";
+        EXPECT_LT(sim.q()[2] - at, rest + 5e-3) << width << " at " << at << ": down on the floor";
+      }
+    }
+}
+
 }  // namespace
 }  // namespace igms
