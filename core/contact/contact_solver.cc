@@ -166,6 +166,31 @@ double ContactSolver::kineticGain(double* scale) const {
   return gain;
 }
 
+// The warm start against a cold one, as MuJoCo compares them: the solve's cost
+// 1/2 lambda^T W lambda + lambda^T (b - u*) (its minimum is the answer where nothing slips) at the
+// last step's impulses against its value, zero, at none. Where the warm start costs more (a load
+// that has just been lifted, contacts that have turned), it is dropped and the solve starts from
+// zero. Counted (warm_dropped).
+void ContactSolver::dropWorseWarmStart() {
+  double cost = 0.0;
+  bool any = false;
+  for (int gi = 0; gi < rows_.size(); ++gi) {
+    const ContactGroup& g = rows_.group(gi);
+    if (!g.complete || g.lambda.isZero(0.0)) continue;
+    any = true;
+    const ContactRowVector u = rows_.velocity(g, z_, g.rows);
+    for (int r = 0; r < g.rows; ++r) cost += g.lambda[r] * (g.b[r] - g.target[r] + 0.5 * u[r]);
+  }
+  if (!any || cost <= 0.0) return;
+  for (int gi = 0; gi < rows_.size(); ++gi) {
+    ContactGroup& g = rows_.group(gi);
+    if (!g.complete) continue;
+    rows_.clear(g, z_);
+    g.lambda.setZero();
+  }
+  ++stats_.warm_dropped;
+}
+
 // Newton's restitution at several points at once, with friction that sticks or beside a pair that
 // separates, can give the bodies more kinetic energy than they brought (a box landing on an edge: 3 %
 // more). Where the solve's impulses would, the restitution of every bouncing point is scaled by the
@@ -281,6 +306,7 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
   for (int pass = 0;; ++pass) {
     for (int g = 0; g < ng; ++g)
       if (rows_.group(g).complete) rows_.add(rows_.group(g), rows_.group(g).lambda, rows_.group(g).rows, z_);
+    if (pass == 0) dropWorseWarmStart();
     converged = solveImpulses();
     if (bounces) converged = keepEnergy() && converged;
     capEnergy();

@@ -48,6 +48,7 @@ struct ContactSolveStats {
   int deferred = 0;            // pairs apart and not closing the last solve left out (contact_rows.h)
   int64_t let_in = 0;          // pairs left out that the solve's v+ pushed across, let in, since the start
   int64_t restitution_scaled = 0;  // impacts whose restitution was scaled down to add no energy, since the start
+  int64_t warm_dropped = 0;        // solves whose warm start cost more than a cold one, so dropped, since the start
   int impact_rounds = 0;           // the last solve's rounds of impacts passed along (contact_impacts.h; 0: none)
   int position_sweeps = 0;         // the position correction's sweeps in the last solve (0: nothing overlapped)
   double position_residual = 0.0;  // m/s: their last sweep's largest change
@@ -73,6 +74,7 @@ class ContactSolver {
 
  private:
   void warmStart(const ContactSet& contacts);
+  void dropWorseWarmStart();  // the last step's impulses, where they cost more than none
   void report(ContactSet& contacts);
   bool anySliding() const;  // a friction at its cone's edge in the impulses as they stand
   bool solveImpulses();     // sweeps and active-set solves on the pairs in the solve; \return converged

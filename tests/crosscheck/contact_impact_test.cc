@@ -174,5 +174,40 @@ TEST(ContactImpact, ACradleOnTheFloorPassesTheBlowAlong) {
   EXPECT_LT(std::abs(v[1]), 0.01);
 }
 
+// The warm start is compared with a cold one: a box resting on the floor, then lifted (its velocity
+// set to 0.2 m/s up, still within the margin): the last step's impulses, which carried its weight,
+// would pull it down; they cost more than none, and are dropped. Resting again, they are kept.
+TEST(ContactSolve, AWarmStartWorseThanColdIsDropped) {
+  Simulation sim(sceneText("ground: true\nbodies: [{name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 2, "
+                           "xyz: [0, 0, 0.1]}]\n"));
+  const Model& model = sim.model();
+  Data data(model);
+  ContactDetection detection(*sim.contactModel());
+  ContactSolver solver(model, *sim.contactModel());
+  ContactSet set(sim.contactModel()->capacity());
+  VectorX v(model.nv), v_position(model.nv);
+  auto solveAt = [&](const VectorX& velocity) {
+    EXPECT_TRUE(forwardDynamics(model, data, sim.q(), velocity, VectorX::Zero(model.nv)));
+    detection.detect(data, set);
+    v = velocity + sim.scene().dt * data.qdd;
+    solver.solve(data, data.Hfact, sim.scene().dt, velocity, set, v, v_position);
+  };
+  const VectorX rest = VectorX::Zero(model.nv);
+  for (int k = 0; k < 3; ++k) solveAt(rest);
+  ASSERT_EQ(set.n, 4);
+  EXPECT_EQ(solver.stats().warm_dropped, 0) << "resting: the warm start is the answer";
+  double carried = 0.0;
+  for (int k = 0; k < set.n; ++k) carried += set[k].impulse.z();
+  EXPECT_NEAR(-carried, 2 * 9.81 * sim.scene().dt, 1e-9) << "the box's weight (impulses on the ground)";
+  VectorX lifted = rest;
+  lifted[2] = 0.2;  // its base's z velocity
+  solveAt(lifted);
+  ASSERT_EQ(set.n, 4);
+  EXPECT_EQ(solver.stats().warm_dropped, 1) << "lifted: the weight's impulses would pull it back";
+  EXPECT_EQ(solver.stats().iterations, 1) << "from zero, one sweep finds nothing to do";
+  for (int k = 0; k < set.n; ++k) EXPECT_EQ(set[k].impulse.norm(), 0.0) << "it leaves: no impulse";
+  EXPECT_NEAR(v[2], 0.2 - 9.81 * sim.scene().dt, 1e-12);
+}
+
 }  // namespace
 }  // namespace igms

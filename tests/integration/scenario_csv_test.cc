@@ -1,7 +1,8 @@
 // igms-scenario's CSV, as a user reads it: every number parses back to the bits the simulation had
 // (round-trip digits, not a stream's default 6), and the contact count per step is the solver's. Run
 // on a mesh scene (scenes/ball_on_mesh.yaml), where a ball used to sink: the CSV then said 0 contacts
-// at every step while the JSON said max_contacts 1.
+// at every step while the JSON said max_contacts 1. The contact solve's sweeps and residual per step
+// are the solver's too.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -45,6 +46,7 @@ TEST(ScenarioCsv, EveryNumberRoundTripsAndTheContactsAreTheSolvers) {
     return 0;
   };
   const int contacts = column("contacts"), first_q = column("ball.x");
+  const int sweeps = column("solver_sweeps"), residual = column("solver_residual");
   Simulation sim(loadScene(scene));
   const int steps = static_cast<int>(seconds / sim.scene().dt + 0.5);
   int rows = 0, touching = 0;
@@ -52,6 +54,12 @@ TEST(ScenarioCsv, EveryNumberRoundTripsAndTheContactsAreTheSolvers) {
     ASSERT_TRUE(sim.step(nullptr));
     const std::vector<std::string> cells = split(line);
     ASSERT_EQ(std::stoi(cells[static_cast<size_t>(contacts)]), sim.contacts().n) << "step " << k;
+    // The contact solve's own sweeps and residual, each step it ran.
+    const bool solved = sim.contacts().n > 0;
+    ASSERT_EQ(std::stoi(cells[static_cast<size_t>(sweeps)]), solved ? sim.contactStats().iterations : 0) << "step " << k;
+    ASSERT_EQ(std::strtod(cells[static_cast<size_t>(residual)].c_str(), nullptr), solved ? sim.contactStats().residual : 0.0)
+        << "step " << k;
+    if (solved) ASSERT_GE(sim.contactStats().iterations, 1) << "step " << k;
     touching += sim.contacts().n > 0;
     for (int i = 0; i < sim.model().nq; ++i)
       ASSERT_EQ(std::strtod(cells[static_cast<size_t>(first_q + i)].c_str(), nullptr), sim.q()[i])

@@ -29,6 +29,15 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                       {"diverged", r.diverged},
                       {"max_contacts", r.max_contacts},
                       {"max_penetration", r.max_penetration},
+                      {"contact_solve",
+                       {{"solves", r.solve.solves},
+                        {"unconverged", r.solve.unconverged},
+                        {"max_sweeps", r.solve.max_sweeps},
+                        {"max_residual", r.solve.max_residual},
+                        {"warm_dropped", r.solve.warm_dropped},
+                        {"restitution_scaled", r.solve.restitution_scaled},
+                        {"energy_capped", r.solve.energy_capped},
+                        {"position_unconverged", r.solve.position_unconverged}}},
                       {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};
   // Each free body's final pose: [x, y, z, qw, qx, qy, qz].
@@ -51,7 +60,7 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
   igms::cli::roundTripDigits(f);
   f << "t,mode,ee_x,ee_y,ee_z,fx,fy,fz,min_distance,in_collision";
   for (const std::string& c : r.q_columns) f << "," << c;
-  f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z\n";
+  f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z,solver_sweeps,solver_residual\n";
   for (const auto& s : r.samples) {
     f << s.t << "," << s.mode << "," << s.ee.x() << "," << s.ee.y() << "," << s.ee.z() << "," << s.force_on_robot.x()
       << "," << s.force_on_robot.y() << "," << s.force_on_robot.z() << "," << s.min_obstacle_distance << ","
@@ -59,7 +68,7 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
     for (double q : s.q) f << "," << q;
     f << "," << s.contacts << "," << s.max_penetration;
     for (const igms::Vector3* v : {&s.tip, &s.proxy}) f << "," << v->x() << "," << v->y() << "," << v->z();
-    f << "\n";
+    f << "," << s.solver_sweeps << "," << s.solver_residual << "\n";
   }
 }
 

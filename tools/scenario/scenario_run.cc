@@ -94,6 +94,19 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     }
     s.contacts = sim.contacts().n;
     s.max_penetration = sim.contacts().maxPenetration();
+    const ContactSolveStats& solve = sim.contactStats();
+    s.solver_sweeps = s.contacts > 0 ? solve.iterations : 0;
+    s.solver_residual = s.contacts > 0 ? solve.residual : 0.0;
+    if (s.contacts > 0) {
+      ++out.solve.solves;
+      out.solve.max_sweeps = std::max(out.solve.max_sweeps, s.solver_sweeps);
+      out.solve.max_residual = std::max(out.solve.max_residual, s.solver_residual);
+    }
+    out.solve.unconverged = solve.unconverged;
+    out.solve.warm_dropped = solve.warm_dropped;
+    out.solve.restitution_scaled = solve.restitution_scaled;
+    out.solve.energy_capped = solve.energy_capped;
+    out.solve.position_unconverged = solve.position_unconverged;
     out.max_contacts = std::max(out.max_contacts, s.contacts);
     out.max_penetration = std::max(out.max_penetration, s.max_penetration);
     if (out.reached_wall_time < 0 && robot && robot->trajectory.kind == TrajectorySpec::Kind::CartesianLine &&

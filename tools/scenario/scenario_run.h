@@ -22,6 +22,20 @@ struct ScenarioSample {
   bool in_collision;
   int contacts;            // contact points at the step's start
   double max_penetration;  // m, their deepest overlap (0: none)
+  int solver_sweeps;       // the contact solve's sweeps this step (0: no contact)
+  double solver_residual;  // m/s: its last sweep's largest velocity change (0: exact, or no contact)
+};
+
+// The contact solve over the run (core/contact/contact_solver.h, ContactSolveStats).
+struct ScenarioSolveStats {
+  int64_t solves = 0;               // steps with contact
+  int64_t unconverged = 0;          // solves that stopped at the sweep limit
+  int max_sweeps = 0;               // the most sweeps one solve took
+  double max_residual = 0.0;        // m/s, the largest residual a solve ended with
+  int64_t warm_dropped = 0;         // warm starts that cost more than a cold one
+  int64_t restitution_scaled = 0;   // impacts whose restitution was scaled down to add no energy
+  int64_t energy_capped = 0;        // solves whose impulses were scaled down to add no energy
+  int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit
 };
 
 struct ScenarioResult {
@@ -47,6 +61,7 @@ struct ScenarioResult {
   double max_robot_force = 0.0;          // N, |force applied to the robot|
   std::vector<std::pair<double, double>> interactions;  // [start, end] s of each push or pull
   std::vector<int> interaction_modes;
+  ScenarioSolveStats solve;
   bool diverged = false;
 };
 
