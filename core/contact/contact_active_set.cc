@@ -98,6 +98,12 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
   auto group = [&](int m) -> ContactGroup& { return rows.group(members_[static_cast<size_t>(m)]); };
   auto frictionRows = [](const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; };
   auto scaleOf = [](const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); };
+  // Whether row r (past the normals) is at its limit: the friction's, or a resisting point's spin or
+  // rolling (rows 3; 4 and 5).
+  auto slidingRow = [](const ContactGroup& g, int r) {
+    if (g.resists && r >= 3) return r == 3 ? g.spin_sliding : g.roll_sliding;
+    return g.sliding;
+  };
   // Each other member h coupled to member m (sharing a tree), once: visit(W_mh, h).
   auto forEachCoupled = [&](int m, auto&& visit) {
     if (cache_count_[static_cast<size_t>(m)] >= 0) {
@@ -139,6 +145,17 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     std::fill(g.slide, g.slide + kMaxContactRows, 0.0);
     if (g.sliding)
       for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+    g.spin_sliding = g.roll_sliding = false;
+    if (g.resists) {
+      const double load = std::max(g.lambda[0], 0.0);
+      const double spin_cap = g.spin_mu * load, roll_cap = g.roll_mu * load;
+      const double roll = std::hypot(g.lambda[4], g.lambda[5]);
+      g.spin_sliding = spin_cap > 0.0 && std::abs(g.lambda[3]) >= kInside * spin_cap;
+      if (g.spin_sliding) g.slide[3] = g.lambda[3] > 0.0 ? g.spin_mu : -g.spin_mu;
+      g.roll_sliding = roll_cap > 0.0 && roll >= kInside * roll_cap;
+      if (g.roll_sliding)
+        for (int r = 4; r < 6; ++r) g.slide[r] = g.roll_mu * g.lambda[r] / roll;
+    }
   }
   // An island too large for the dense solve, even as the sweeps left it, is left to them.
   int rows_guessed = 0;
@@ -147,6 +164,8 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     int active = 0;
     for (int k = 0; k < g.points; ++k) active += g.active[k];
     rows_guessed += active + (active > 0 && !g.sliding && g.mu > 0.0 ? frictionRows(g) : 0);
+    if (active > 0 && g.resists)
+      rows_guessed += (!g.spin_sliding && g.spin_mu > 0.0) + 2 * (!g.roll_sliding && g.roll_mu > 0.0);
   }
   if (rows_guessed > kPolishRows) return false;
   // The island's couplings W_mh, each member's to each other it shares a tree with, formed once for
@@ -196,9 +215,14 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
           g.unknown[k] = nx++;
           loaded = true;
         }
-      if (!loaded) g.sliding = false;
+      if (!loaded) g.sliding = g.spin_sliding = g.roll_sliding = false;
       if (loaded && !g.sliding && g.mu > 0.0)  // frictionless: no friction, nothing to solve for
         for (int f = 0; f < F; ++f) g.unknown[P + f] = nx++;
+      if (loaded && g.resists) {
+        if (!g.spin_sliding && g.spin_mu > 0.0) g.unknown[3] = nx++;
+        if (!g.roll_sliding && g.roll_mu > 0.0)
+          for (int r = 4; r < 6; ++r) g.unknown[r] = nx++;
+      }
     }
     if (nx > kPolishRows) return false;
     // M x = rhs: each unknown's row u_r = target_r (0 for friction), u = b + sum over the island of W lambda.
@@ -209,7 +233,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
         M.setZero();
         for (int m = 0; m < n; ++m) {
           const ContactGroup& g = group(m);
-          symmetric = symmetric && !g.sliding;
+          symmetric = symmetric && !g.sliding && !g.spin_sliding && !g.roll_sliding;
           auto add = [&](const ContactBlock& W, const ContactGroup& h) {
             for (int r = 0; r < g.rows; ++r) {
               const int row = g.unknown[r];
@@ -217,7 +241,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
               for (int c = 0; c < h.rows; ++c) {
                 if (h.unknown[c] >= 0) {
                   M(row, h.unknown[c]) += W(r, c);
-                } else if (h.sliding && h.slide[c] != 0.0) {
+                } else if (c >= h.points && slidingRow(h, c) && h.slide[c] != 0.0) {
                   for (int k = 0; k < h.points; ++k)
                     if (h.unknown[k] >= 0) M(row, h.unknown[k]) += W(r, c) * h.slide[c];
                 }
@@ -230,8 +254,15 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
             if (g.unknown[r] >= 0) rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
         }
         // Redundant normals (four corners carry three degrees of freedom) make M singular: a small
-        // regularisation picks the even split among them.
-        const double big = M.diagonal().cwiseAbs().maxCoeff();
+        // regularisation picks the even split among them, sized by the largest diagonal of the
+        // contact and friction rows. Not by a resisting point's spin and rolling rows: their 1/I is
+        // 10^3 a force's 1/m for a 5 cm ball, and a sticking ball crept at 1e-11 m/s under it.
+        double big = 0.0;
+        for (int m = 0; m < n; ++m) {
+          const ContactGroup& g = group(m);
+          for (int r = 0; r < (g.resists ? 3 : g.rows); ++r)
+            if (g.unknown[r] >= 0) big = std::max(big, std::abs(M(g.unknown[r], g.unknown[r])));
+        }
         M.diagonal().array() += 1e-12 * big + 1e-300;
       };
       assemble();
@@ -263,7 +294,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       for (int k = 0; k < g.points; ++k)
         if (g.unknown[k] >= 0) N += g.trial[k] = x_[g.unknown[k]];
       for (int r = g.points; r < g.rows; ++r)
-        g.trial[r] = g.unknown[r] >= 0 ? x_[g.unknown[r]] : (g.sliding ? g.slide[r] * N : 0.0);
+        g.trial[r] = g.unknown[r] >= 0 ? x_[g.unknown[r]] : (slidingRow(g, r) ? g.slide[r] * N : 0.0);
     }
     for (int m = 0; m < n; ++m) rows.add(group(m), group(m).trial, group(m).rows, zt_);
     for (int m = 0; m < n; ++m) {
@@ -300,6 +331,24 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
         w[f] = g.trial_u[P + f] * scale[f];
       }
       const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
+      if (g.resists) {  // the spin and rolling limits, as the friction's below
+        const double load = std::max(g.trial[0], 0.0);
+        const double spin = g.trial[3], spin_cap = g.spin_mu * load;
+        if (g.spin_mu > 0.0) {
+          if (!g.spin_sliding && std::abs(spin) > spin_cap * (1.0 + 1e-9) + 1e-15)
+            candidate((std::abs(spin) - spin_cap) * g.W(3, 3) + tolerance, m, 3);
+          else if (g.spin_sliding && spin * g.trial_u[3] > tolerance * std::abs(spin))
+            candidate(spin * g.trial_u[3] / std::abs(spin), m, 3);
+        }
+        const Eigen::Vector2d roll = g.trial.segment<2>(4), turn = g.trial_u.segment<2>(4);
+        const double roll_cap = g.roll_mu * load;
+        if (g.roll_mu > 0.0) {
+          if (!g.roll_sliding && roll.norm() > roll_cap * (1.0 + 1e-9) + 1e-15)
+            candidate((roll.norm() - roll_cap) / g.roll_step + tolerance, m, 4);
+          else if (g.roll_sliding && roll.dot(turn) > tolerance * roll.norm())
+            candidate(roll.dot(turn) / roll.norm(), m, 4);
+        }
+      }
       if (!(g.mu > 0.0)) continue;  // frictionless: its friction is zero, no condition
       if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
         candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
@@ -314,6 +363,13 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     ContactGroup& g = group(worst_group);
     if (worst_row < g.points) {
       g.active[worst_row] = !g.active[worst_row];
+    } else if (g.resists && worst_row == 3) {  // the spin: to its limit, against its turning, or back
+      g.spin_sliding = !g.spin_sliding;
+      g.slide[3] = g.spin_sliding ? (g.trial[3] > 0.0 ? g.spin_mu : -g.spin_mu) : 0.0;
+    } else if (g.resists && worst_row == 4) {  // the rolling pair, likewise
+      g.roll_sliding = !g.roll_sliding;
+      const double roll = std::hypot(g.trial[4], g.trial[5]);
+      for (int r = 4; r < 6; ++r) g.slide[r] = g.roll_sliding && roll > 0.0 ? g.roll_mu * g.trial[r] / roll : 0.0;
     } else if (!g.sliding) {  // slip, along the friction the trial found
       const int P = g.points, F = frictionRows(g);
       const Vector3 scale = scaleOf(g);

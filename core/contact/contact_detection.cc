@@ -119,8 +119,11 @@ void ContactDetection::detect(const Data& data, ContactSet& out) {
       c.normal = pts[s].normal;
       c.distance = pts[s].distance;
       c.friction = m.friction;
+      c.rolling = m.rolling;
+      c.torsion = m.torsion;
       c.restitution = m.restitution;
       c.impulse.setZero();
+      c.moment.setZero();
     }
   }
 }

@@ -128,7 +128,10 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
     g.first = i;
     g.points = end - i;
     g.patch = g.points > 1;
-    g.rows = g.points + (g.patch ? 3 : 2);
+    g.resists = !g.patch && (c0.rolling > 0.0 || c0.torsion > 0.0);
+    g.spin_mu = g.resists ? c0.torsion : 0.0;
+    g.roll_mu = g.resists ? c0.rolling : 0.0;
+    g.rows = g.points + (g.patch ? 3 : g.resists ? 5 : 2);
     g.mu = c0.friction;
     // The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
     // within kPatchDepth of the deepest (a lying cylinder's two rim ends, not a rim point above them
@@ -236,10 +239,14 @@ void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
   const int P = g.points;
   // The friction rows of J (at the point, or the patch's centroid; a torsion row [0; n]) and their
   // velocities under v_free.
-  Vector6 row[3];
+  Vector6 row[5];
   row[0] << g.t1, g.centroid.cross(g.t1);
   row[1] << g.t2, g.centroid.cross(g.t2);
-  if (g.patch) row[2] << Vector3::Zero(), g.n;
+  if (g.patch || g.resists) row[2] << Vector3::Zero(), g.n;  // torsion, or spin
+  if (g.resists) {  // rolling: the relative angular velocity about the tangents
+    row[3] << Vector3::Zero(), g.t1;
+    row[4] << Vector3::Zero(), g.t2;
+  }
   for (int e = 0; e < g.entries; ++e) {
     const int dof = dof_[static_cast<size_t>(g.first_entry + e)];
     const Eigen::Map<const Vector6> S(data_->S_world.col(dof).data());
@@ -293,6 +300,11 @@ void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
     g.friction_inverse = regularisedInverse(Eigen::Matrix3d(g.W.block<3, 3>(0, 0)));
     const double a = g.W(1, 1), b = g.W(1, 2), d = g.W(2, 2);
     g.friction_step = 1.0 / (0.5 * (a + d) + std::sqrt(0.25 * (a - d) * (a - d) + b * b) + 1e-300);
+    if (g.resists) {
+      g.roll_inverse = regularisedInverse(Eigen::Matrix2d(g.W.block<2, 2>(4, 4)));
+      const double p = g.W(4, 4), q = g.W(4, 5), r = g.W(5, 5);
+      g.roll_step = 1.0 / (0.5 * (p + r) + std::sqrt(0.25 * (p - r) * (p - r) + q * q) + 1e-300);
+    }
   }
   if (g.tree_a >= 0) tree_groups_[static_cast<size_t>(g.tree_a)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_a)]++)] = gi;
   if (g.tree_b >= 0 && g.tree_b != g.tree_a)

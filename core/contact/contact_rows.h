@@ -20,6 +20,7 @@
 namespace igms {
 
 constexpr int kMaxContactRows = kMaxPairPoints + 3;  // a patch: its normals, two tangents, a torsion
+static_assert(kMaxContactRows >= 6, "a point that resists: n, t1, t2, spin, two rolling rows");
 using ContactBlock = Eigen::Matrix<double, kMaxContactRows, kMaxContactRows>;
 using ContactRowVector = Eigen::Matrix<double, kMaxContactRows, 1>;
 
@@ -27,7 +28,11 @@ using ContactRowVector = Eigen::Matrix<double, kMaxContactRows, 1>;
 struct ContactGroup {
   int first = 0, points = 0;    // its contacts in the set
   bool patch = false;           // several points: friction at the centroid (rows: normals, t1, t2, torsion)
-  int rows = 0;                 // points + 2 (one point: n, t1, t2) or points + 3
+  // One point with rolling or torsional resistance (Material): three more rows, its relative angular
+  // velocity about n (spin), t1 and t2 (rolling): |tau_spin| <= spin_mu N, |tau_roll| <= roll_mu N.
+  bool resists = false;
+  double spin_mu = 0.0, roll_mu = 0.0;  // m
+  int rows = 0;                 // points + 2 (one point: n, t1, t2; + 3 where it resists) or points + 3
   Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
   double mu = 0.0, radius = 0.0;  // friction coefficient; a patch's torsion radius
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
@@ -37,6 +42,8 @@ struct ContactGroup {
   ContactBlock W;                    // its own Delassus block
   Eigen::Matrix3d friction_inverse;  // of the friction rows' block (stick)
   double friction_step = 0.0;  // 1 / (a bound on the largest eigenvalue of the scaled friction block)
+  Eigen::Matrix2d roll_inverse;  // of the rolling rows' block (where it resists)
+  double roll_step = 0.0;        // 1 / its largest eigenvalue
   ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
   ContactRowVector sigma;              // pseudo-impulses (normal rows)
   ContactRowVector impact;             // impulses of the impacts passed along first (contact_impacts.h)
@@ -48,6 +55,7 @@ struct ContactGroup {
   // sticks or slips (then lambda_row = slide[row] * sum of the normals), each row's unknown (-1: none).
   bool active[kMaxPairPoints] = {};
   bool sliding = false;
+  bool spin_sliding = false, roll_sliding = false;  // the resistance's two limits, as `sliding`
   double slide[kMaxContactRows] = {};
   int unknown[kMaxContactRows] = {};
   ContactRowVector trial, trial_u;

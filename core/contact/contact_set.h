@@ -17,7 +17,9 @@ struct Contact {
   Vector3 normal = Vector3::UnitZ();    // world, unit, from a toward b
   double distance = 0.0;                // m, signed at the step's start: negative where they overlap
   double friction = 0.0, restitution = 0.0;  // the pair's (combined) material
+  double rolling = 0.0, torsion = 0.0;       // m: its rolling and torsional resistance (one point only)
   Vector3 impulse = Vector3::Zero();    // world, N s over the step: on b (a gets the opposite)
+  Vector3 moment = Vector3::Zero();     // world, N m s about the point: rolling and torsional resistance, on b
 };
 
 struct ContactSet {

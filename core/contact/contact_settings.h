@@ -11,12 +11,19 @@ namespace igms {
 struct Material {
   double friction = 1.0;     // Coulomb coefficient mu (the cone |f_t| <= mu f_n)
   double restitution = 0.0;  // Newton's e: the normal speed after an impact is e times the speed before
+  // Resistance at a single point of contact (a ball, a capsule's end), as MuJoCo's condim 6: a torque
+  // of at most coefficient x normal force opposes rolling (about the tangents) and spinning (about the
+  // normal); inside that, it holds. Lengths, m. A patch's torsion comes from its area instead.
+  double rolling = 0.0;
+  double torsion = 0.0;
 };
 
 // Two materials in contact: friction the geometric mean (a slippery side makes the pair slippery;
-// equal materials keep their own), restitution the larger (a steel ball bounces off wood).
+// equal materials keep their own), restitution the larger (a steel ball bounces off wood), rolling
+// and torsional resistance the larger (a ball on a carpet: the carpet's).
 inline Material combine(const Material& a, const Material& b) {
-  return Material{std::sqrt(a.friction * b.friction), std::max(a.restitution, b.restitution)};
+  return Material{std::sqrt(a.friction * b.friction), std::max(a.restitution, b.restitution),
+                  std::max(a.rolling, b.rolling), std::max(a.torsion, b.torsion)};
 }
 
 struct ContactSettings {

@@ -91,6 +91,7 @@ void ContactSolver::report(ContactSet& contacts) {
     for (int k = 0; k < P; ++k) {
       Contact& c = contacts[g.first + k];
       c.impulse = taken[k] * c.normal;
+      c.moment = g.resists ? Vector3(taken[3] * g.n + taken[4] * g.t1 + taken[5] * g.t2) : Vector3::Zero();
       if (g.carries[k] && carrying > 0) {
         c.impulse += friction / carrying;
         if (torsion != 0.0 && spread > 0.0) {

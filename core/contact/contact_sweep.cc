@@ -6,6 +6,28 @@
 namespace igms {
 namespace {
 
+// A point's rolling and torsional resistance, given its angular rows' velocity w (spin, roll t1, roll
+// t2) with the normal and friction as they now are: the spin row held inside |tau| <= spin_mu N, then
+// the rolling pair inside |tau| <= roll_mu N, each sticking where it can, else at its limit by an
+// isotropic step (friction's rule: the limit's torque opposite the turning).
+void solveResistance(ContactGroup& g, Vector3 w) {
+  const double N = std::max(g.lambda[0], 0.0);
+  const double spin = g.lambda[3];
+  const double cap_spin = g.spin_mu * N;
+  const double ls = std::clamp(spin - w[0] / (g.W(3, 3) + 1e-300), -cap_spin, cap_spin);
+  w.tail<2>() += g.W.block<2, 1>(4, 3) * (ls - spin);
+  g.lambda[3] = ls;
+  const Eigen::Vector2d roll = g.lambda.segment<2>(4);
+  Eigen::Vector2d lr = roll - g.roll_inverse * w.tail<2>();
+  const double cap = g.roll_mu * N;
+  if (lr.norm() > cap) {
+    lr = roll - g.roll_step * w.tail<2>();
+    const double t = lr.norm();
+    if (t > cap) lr *= cap / t;
+  }
+  g.lambda.segment<2>(4) = lr;
+}
+
 // One point: sticking first, the whole block at once, target (u*, 0, 0); where that pulls or leaves
 // the cone, the normal row, then the tangential ones against what it changed, onto the cone by an
 // isotropic step (a step by W_tt^-1 would settle where W_tt lambda_t opposes the slip instead).
@@ -21,7 +43,9 @@ void solvePoint(ContactGroup& g, const ContactRowVector& u) {
     if (t > cap) lt *= cap / t;
     l = Vector3(ln, lt.x(), lt.y());
   }
+  const Vector3 change = l - lam;
   g.lambda.head<3>() = l;
+  if (g.resists) solveResistance(g, u.segment<3>(3) + g.W.block<3, 3>(3, 0) * change);
 }
 
 // A patch: its normals one by one (u kept current through the group's own block), then its friction

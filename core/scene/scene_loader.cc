@@ -269,12 +269,16 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
     for (const auto& kv : materials) {
       const std::string name = kv.first.as<std::string>();
       const std::string at = "materials." + name;
-      r.onlyKeys(kv.second, at, {"friction", "restitution"});
+      r.onlyKeys(kv.second, at, {"friction", "restitution", "rolling", "torsion"});
       Material m;
       m.friction = r.number(kv.second, "friction", m.friction);
       if (m.friction < 0.0) r.fail(kv.second["friction"], at + ".friction", "must be >= 0");
       m.restitution = r.number(kv.second, "restitution", m.restitution);
       if (m.restitution < 0.0 || m.restitution > 1.0) r.fail(kv.second["restitution"], at + ".restitution", "must be in [0, 1]");
+      m.rolling = r.number(kv.second, "rolling", m.rolling);
+      if (!(m.rolling >= 0.0)) r.fail(kv.second["rolling"], at + ".rolling", "must be >= 0 (m)");
+      m.torsion = r.number(kv.second, "torsion", m.torsion);
+      if (!(m.torsion >= 0.0)) r.fail(kv.second["torsion"], at + ".torsion", "must be >= 0 (m)");
       s.materials[name] = m;
     }
   }

@@ -183,6 +183,85 @@ TEST(ContactAnalytic, ASphereAndACylinderRollDownASlope) {
   EXPECT_LT(w_err, 5.5e-4);
 }
 
+// Rolling resistance (material `rolling`, m): a torque of at most rolling x N opposes the rolling.
+// A solid ball rolling on a flat floor then decelerates at a = 5 rolling g / (7 r) (its friction
+// keeping it rolling), so from v0 it stops after v0^2 / 2a.
+TEST(ContactAnalytic, ABallWithRollingResistanceStopsWhereTheAnalyticAnswerSays) {
+  const double r = 0.05, v0 = 1.0;
+  for (const double rolling : {0.002, 0.0005}) {
+    char yaml[512];
+    std::snprintf(yaml, sizeof yaml,
+                  "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, rolling: %.17g}}\n"
+                  "bodies: [{name: ball, shape: sphere, radius: %g, mass: 1, xyz: [0, 0, %g], v: [%g, 0, 0], "
+                  "w: [0, %.17g, 0], material: m}]\n",
+                  rolling, r, r, v0, v0 / r);
+    Simulation sim(sceneText(yaml));
+    const double a = 5.0 * rolling * g / (7.0 * r), stop = v0 * v0 / (2.0 * a), when = v0 / a;
+    double stopped_at = -1.0, moment = 0.0;
+    const int steps = static_cast<int>(1.5 * when / sim.scene().dt);
+    for (int k = 1; k <= steps; ++k) {
+      ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+      if (k == steps / 4 && sim.contacts().n == 1) moment = sim.contacts()[0].moment.norm() / sim.scene().dt;
+      if (stopped_at < 0.0 && body(sim, "ball").v.x() < 1e-9) stopped_at = k * sim.scene().dt;
+    }
+    const FreeBodyState b = body(sim, "ball");
+    std::printf("ball rolling at %g m/s, rolling resistance %g m: stops at x %.5f m after %.4f s (analytic %.5f m, "
+                "%.4f s), resisting moment %.6f N m (rolling m g %.6f)\n",
+                v0, rolling, b.p.x(), stopped_at, stop, when, moment, rolling * g);
+    EXPECT_NEAR(b.p.x(), stop, 0.01 * stop) << "the goal: within 1 %";
+    EXPECT_NEAR(stopped_at, when, 0.01 * when);
+    EXPECT_LT(b.v.norm() + b.w.norm() * r, 1e-9) << "then it stays: no creep";
+    EXPECT_NEAR(moment, rolling * g, 1e-9) << "the moment at its limit while it rolls";
+  }
+}
+
+// Torsional resistance (material `torsion`, m): a ball spinning on the spot about the vertical
+// stops after I w0 / (torsion m g), I = 2/5 m r^2.
+TEST(ContactAnalytic, ASpinningBallWithTorsionalResistanceStopsWhenTheAnalyticAnswerSays) {
+  const double r = 0.05, w0 = 10.0, torsion = 0.001;
+  char yaml[512];
+  std::snprintf(yaml, sizeof yaml,
+                "ground: {height: 0, material: m}\nmaterials: {m: {friction: 0.5, torsion: %.17g}}\n"
+                "bodies: [{name: ball, shape: sphere, radius: %g, mass: 1, xyz: [0, 0, %g], w: [0, 0, %g], "
+                "material: m}]\n",
+                torsion, r, r, w0);
+  Simulation sim(sceneText(yaml));
+  const double when = 0.4 * r * r * w0 / (torsion * g);
+  double stopped_at = -1.0;
+  for (int k = 1; k <= static_cast<int>(1.5 * when / sim.scene().dt); ++k) {
+    ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+    if (stopped_at < 0.0 && body(sim, "ball").w.z() < 1e-9) stopped_at = k * sim.scene().dt;
+  }
+  const FreeBodyState b = body(sim, "ball");
+  std::printf("ball spinning at %g rad/s, torsion %g m: stops at %.4f s (analytic %.4f s), drifted %.1e m\n", w0,
+              torsion, stopped_at, when, b.p.head<2>().norm());
+  EXPECT_NEAR(stopped_at, when, 0.01 * when);
+  EXPECT_LT(b.w.norm(), 1e-9);
+  EXPECT_LT(b.p.head<2>().norm(), 1e-9) << "spinning on the spot";
+}
+
+// A ball on a slope with rolling resistance holds while m g sin(theta) r <= rolling m g cos(theta),
+// tan(theta) <= rolling / r (here 0.04: 2.29 deg), without creeping; past it, it rolls.
+TEST(ContactAnalytic, ABallWithRollingResistanceHoldsOnAGentleSlopeOnly) {
+  const double r = 0.05, rolling = 0.002;
+  for (const double degrees : {2.0, 2.5}) {
+    const double theta = degrees * M_PI / 180.0;
+    const Vector3 at = r * Vector3(std::sin(theta), 0.0, std::cos(theta));
+    char yaml[512];
+    std::snprintf(yaml, sizeof yaml,
+                  "ground: {height: 0, rpy: [0, %.17g, 0], material: m}\nmaterials: {m: {friction: 0.5, rolling: %g}}\n"
+                  "bodies: [{name: ball, shape: sphere, radius: %g, mass: 1, xyz: [%.17g, 0, %.17g], material: m}]\n",
+                  theta, rolling, r, at.x(), at.z());
+    Simulation sim(sceneText(yaml));
+    run(sim, 2.0);
+    const FreeBodyState b = body(sim, "ball");
+    std::printf("ball on %.1f deg with rolling resistance %g m (holds below %.2f deg): speed %.3e m/s after 2 s\n",
+                degrees, rolling, std::atan(rolling / r) * 180.0 / M_PI, b.v.norm());
+    if (std::tan(theta) < rolling / r) EXPECT_LT(b.v.norm(), 1e-12) << degrees << " deg: it holds, no creep";
+    else EXPECT_GT(b.v.norm(), 0.05) << degrees << " deg: it rolls";
+  }
+}
+
 TEST(ContactAnalytic, ADroppedBallReboundsToEToTheSquare) {
   for (const double e : {0.0, 0.5, 1.0}) {
     char yaml[512];
