@@ -8,7 +8,6 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <cstdio>
 #include <stdexcept>
 
@@ -29,17 +28,40 @@ std::runtime_error keyError(const std::string& path, const std::string& what) {
 }  // namespace
 
 BusKey loadBusKey(const std::string& path) {
+  // Opened once, not followed if a link, and checked on the descriptor that is read (a name checked
+  // and then opened again can be swapped for a link to another file between the two).
+  const int fd = open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+  if (fd < 0) {
+    if (errno == ELOOP) throw keyError(path, "a symbolic link; give the key file itself");
+    if (errno == EACCES) throw keyError(path, "not readable by this user (permission denied)");
+    throw keyError(path, std::strerror(errno));
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { close(fd); }
+  } closer{fd};
   struct stat st {};
-  if (stat(path.c_str(), &st) != 0) throw keyError(path, std::strerror(errno));
+  if (fstat(fd, &st) != 0) throw keyError(path, std::strerror(errno));
   if (!S_ISREG(st.st_mode)) throw keyError(path, "not a regular file");
+  if (st.st_uid != geteuid())
+    throw keyError(path, "owned by uid " + std::to_string(st.st_uid) + ", not by this user (uid " +
+                             std::to_string(geteuid()) + ")");
   // Like ssh with a private key: a key others can read is no secret.
   if (st.st_mode & (S_IRWXG | S_IRWXO)) {
     char mode[8];
     std::snprintf(mode, sizeof mode, "%03o", static_cast<unsigned>(st.st_mode & 0777));
     throw keyError(path, std::string("readable by others (mode ") + mode + "); chmod 600 it");
   }
-  std::ifstream in(path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  char chunk[256];
+  for (ssize_t n; (n = read(fd, chunk, sizeof chunk)) != 0;) {
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw keyError(path, std::strerror(errno));
+    }
+    text.append(chunk, static_cast<size_t>(n));
+    if (text.size() > 4096) throw keyError(path, "larger than a key file");
+  }
   while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
   BusKey key{};
   if (text.size() != 2 * key.size())

@@ -13,12 +13,14 @@ the nonce, over len(channel) (4 B) | channel | payload | the trailer before the
 tag. Readers without the key decode the payload as before. Needs the
 `cryptography` package (Debian: python3-cryptography).
 """
+import errno
 import hashlib
 import hmac
 import os
 import stat
 import struct
 import time
+import weakref
 
 from cryptography.hazmat.primitives.ciphers.aead import AESGCM
 
@@ -30,13 +32,30 @@ MAX_AGE_S = 60.0
 
 
 def read_key_file(path):
-    """The bus key's 32 bytes; ValueError with one line for a file others can read or one that is not a key."""
-    mode = os.stat(path).st_mode
-    if mode & (stat.S_IRWXG | stat.S_IRWXO):
-        raise ValueError("%s: readable by others (mode %o); chmod 600 it" % (path, stat.S_IMODE(mode)))
+    """The bus key's 32 bytes; ValueError with one line for a link, a file another user owns or others can
+    read, or one that is not a key. Opened once (not following a link) and checked on that descriptor,
+    as bus/bus_key.cc does: a name checked and opened again can be swapped between the two."""
     try:
-        key = bytes.fromhex(open(path).read().strip())
-    except ValueError:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_CLOEXEC | os.O_NOCTTY | os.O_NONBLOCK)
+    except OSError as e:
+        if e.errno == errno.ELOOP:
+            raise ValueError("%s: a symbolic link; give the key file itself" % path) from None
+        if e.errno == errno.EACCES:
+            raise ValueError("%s: not readable by this user (permission denied)" % path) from None
+        raise ValueError("%s: %s" % (path, e.strerror)) from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode):
+        os.close(fd)
+        raise ValueError("%s: not a regular file" % path)
+    with os.fdopen(fd, "rb") as f:
+        if st.st_uid != os.geteuid():
+            raise ValueError("%s: owned by uid %d, not by this user (uid %d)" % (path, st.st_uid, os.geteuid()))
+        if st.st_mode & (stat.S_IRWXG | stat.S_IRWXO):
+            raise ValueError("%s: readable by others (mode %o); chmod 600 it" % (path, stat.S_IMODE(st.st_mode)))
+        text = f.read(4097)
+    try:
+        key = bytes.fromhex(text.decode("ascii").strip())
+    except (ValueError, UnicodeDecodeError):
         key = b""
     if len(key) != 32:
         raise ValueError("%s: not a bus key (64 hex digits)" % path)
@@ -54,17 +73,34 @@ def _tag(gcm, channel, head, counter):
 
 
 class Signer:
-    """One sender: a random id per Signer, a counter that only grows (never a nonce twice)."""
+    """One sender: a random id per Signer, a counter that only grows (never a nonce twice). A forked
+    child's Signers draw new ids and count again from the start (signing on as the parent's would
+    repeat GMAC nonces under one key)."""
+
+    _live = weakref.WeakSet()
 
     def __init__(self, bus_key):
+        self._bus_key = bus_key
+        self._draw()
+        Signer._live.add(self)
+
+    def _draw(self):
         self.sender = os.urandom(16)
-        self._gcm = _gcm(bus_key, self.sender)
+        self._gcm = _gcm(self._bus_key, self.sender)
         self._counter = 0
+
+    @classmethod
+    def _after_fork_in_child(cls):
+        for signer in list(cls._live):
+            signer._draw()
 
     def sign(self, channel, payload):
         self._counter += 1
         head = payload + MAGIC + self.sender + struct.pack(">QQ", self._counter, int(time.time() * 1e6))
         return head + _tag(self._gcm, channel, head, self._counter)
+
+
+os.register_at_fork(after_in_child=Signer._after_fork_in_child)
 
 
 class Verifier:

@@ -21,6 +21,10 @@ PluginDevice::PluginDevice(const std::string& spec) {
   const std::string args = colon == std::string::npos ? "" : spec.substr(colon + 1);
   auto fail = [&](const std::string& why) { return std::runtime_error("--device plugin:" + path_ + ": " + why); };
   if (path_.empty()) throw std::runtime_error("--device plugin:PATH.so[:ARGS] needs the library's path");
+  // A name without a '/' is looked up along dlopen's search path (LD_LIBRARY_PATH, the cache): whatever
+  // library of that name comes first would run in the servo loop. Only a path is loaded.
+  if (path_.find('/') == std::string::npos)
+    throw fail("a path to the library is needed (./" + path_ + ", or an absolute one), not a name to search for");
   library_ = dlopen(path_.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!library_) throw fail(std::string("cannot load it: ") + dlerror());
   auto symbol = [&](const char* name) {

@@ -153,6 +153,8 @@ expect_error "another ABI version" "$build/tests/libbroken_device_abi.so" "built
 expect_error "an open that fails" "$build/tests/libbroken_device_good.so:fail-open" \
   "open failed: no device on /dev/ttyFAKE0 \(permission denied\)"
 expect_error "no path" "" "needs the library's path"
+expect_error "a bare name (dlopen's search path)" "libbroken_device_good.so" \
+  "plugin:libbroken_device_good.so: a path to the library is needed \(./libbroken_device_good.so"
 
 # A read that blocks 5 ms every 50 cycles, and one that gives NaN: counted, the client runs on.
 mkdir -p "$work/slow"

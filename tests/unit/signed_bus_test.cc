@@ -4,6 +4,8 @@
 // checked, and signing allocates nothing.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
@@ -53,6 +55,51 @@ TEST(SignedBus, ASignedMessageIsAcceptedOnceAndItsPayloadComesBack) {
   EXPECT_EQ(again.why, Refusal::kReplayed);
   EXPECT_EQ(v.counts().accepted, 1);
   EXPECT_EQ(v.counts().refused[static_cast<size_t>(Refusal::kReplayed)], 1);
+}
+
+// A forked child signs as a sender of its own: a new id and its counter from 1, so no (sender,
+// counter) pair, a GMAC nonce under one subkey, is used by both processes. Its messages, signed by
+// the signer it inherited, are accepted; the parent signs on as before.
+TEST(SignedBus, AForkedChildSignsAsANewSenderNeverReusingANonce) {
+  MessageSigner signer(keyOf(1));
+  MessageVerifier v(keyOf(1), "test");
+  const std::vector<uint8_t> payload = {9, 8, 7};
+  const auto before = signedMessage(signer, "IGMS_COMMAND", payload);
+  Trailer parent_before;
+  ASSERT_TRUE(findTrailer(before.data(), before.size(), &parent_before));
+  int pipe_fd[2];
+  ASSERT_EQ(pipe(pipe_fd), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(pipe_fd[0]);
+    const auto m = signedMessage(signer, "IGMS_COMMAND", payload);
+    const bool all = write(pipe_fd[1], m.data(), m.size()) == static_cast<ssize_t>(m.size());
+    _exit(all && signer.rekeyed() ? 0 : 1);
+  }
+  close(pipe_fd[1]);
+  std::vector<uint8_t> from_child(before.size());
+  size_t got = 0;
+  for (ssize_t r; got < from_child.size() && (r = read(pipe_fd[0], from_child.data() + got, from_child.size() - got)) > 0;)
+    got += static_cast<size_t>(r);
+  close(pipe_fd[0]);
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "the child signed, having keyed itself for its own sender";
+  ASSERT_EQ(got, before.size());
+  const auto after = signedMessage(signer, "IGMS_COMMAND", payload);
+  Trailer child_t, parent_after;
+  ASSERT_TRUE(findTrailer(from_child.data(), from_child.size(), &child_t));
+  ASSERT_TRUE(findTrailer(after.data(), after.size(), &parent_after));
+  EXPECT_NE(child_t.sender, parent_before.sender) << "the child draws a sender of its own";
+  EXPECT_EQ(child_t.counter, 1u) << "and counts from the start";
+  EXPECT_EQ(parent_after.sender, parent_before.sender);
+  EXPECT_EQ(parent_after.counter, parent_before.counter + 1);
+  EXPECT_FALSE(child_t.sender == parent_after.sender && child_t.counter == parent_after.counter) << "a nonce twice";
+  EXPECT_TRUE(check(v, "IGMS_COMMAND", before).accepted);
+  EXPECT_TRUE(check(v, "IGMS_COMMAND", from_child).accepted) << "the child's tag holds under its own sender's key";
+  EXPECT_TRUE(check(v, "IGMS_COMMAND", after).accepted);
 }
 
 TEST(SignedBus, EveryByteAndTheChannelAreCovered) {
@@ -296,6 +343,21 @@ TEST_F(KeyFile, BadFilesNameTheFileAndTheProblem) {
   EXPECT_NE(errorOf(write("nothex.key", "g" + hex.substr(1), 0600)).find("nothex.key: not hex at character 1"),
             std::string::npos);
   EXPECT_EQ(errorOf(write("good.key", hex + "\n", 0600)), "");
+  // A link to a good key is refused (a link can be swapped between a check and a read), and so is a
+  // key another user owns; the file that is read is the one that was checked.
+  std::filesystem::create_symlink(dir / "good.key", dir / "link.key");
+  EXPECT_NE(errorOf((dir / "link.key").string()).find("link.key: a symbolic link; give the key file itself"),
+            std::string::npos);
+  const std::string theirs = write("theirs.key", hex + "\n", 0600);
+  if (geteuid() == 0) {  // only root can give a file away
+    ASSERT_EQ(chown(theirs.c_str(), 65534, 65534), 0);
+    EXPECT_NE(errorOf(theirs).find("theirs.key: owned by uid 65534, not by this user (uid 0)"), std::string::npos);
+  } else {
+    const std::string unreadable = write("unreadable.key", hex + "\n", 0200);
+    EXPECT_NE(errorOf(unreadable).find("unreadable.key: not readable by this user (permission denied)"),
+              std::string::npos);
+  }
+  EXPECT_NE(errorOf(dir.string()).find("not a regular file"), std::string::npos);
 }
 
 }  // namespace
