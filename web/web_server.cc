@@ -112,6 +112,25 @@ bool sameOrigin(const std::string& origin, const std::string& host, const std::s
   return host == "127.0.0.1" + p || host == "localhost" + p || host == "[::1]" + p;
 }
 
+bool hostAllowed(const std::string& host, const std::string& bind, int port) {
+  if (host.empty()) return false;
+  if (bind == "0.0.0.0" || bind == "::") return true;
+  std::string name = host, rest;
+  if (host[0] == '[') {
+    const size_t close = host.find(']');
+    if (close == std::string::npos) return false;
+    name = host.substr(0, close + 1);
+    rest = host.substr(close + 1);
+  } else if (const size_t colon = host.rfind(':'); colon != std::string::npos) {
+    name = host.substr(0, colon);
+    rest = host.substr(colon);
+  }
+  if (!rest.empty() && rest != ":" + std::to_string(port)) return false;
+  const bool loopback = bind == "127.0.0.1" || bind == "::1" || bind == "localhost";
+  if (loopback) return name == "127.0.0.1" || name == "localhost" || name == "[::1]";
+  return name == bind || name == "[" + bind + "]";
+}
+
 std::string WebServer::url(bool with_token) const {
   std::string u = "http://" + options_.bind + ":" + std::to_string(port_) + "/";
   // In the fragment: a browser never sends it, so no server, proxy or Referer header sees the token.
@@ -186,6 +205,13 @@ void WebServer::start() {
   s.set_http_handler([this, impl](Handle h) {
     Server::connection_ptr con = impl->server.get_con_from_hdl(h);
     ++counters_.http_requests;
+    if (!hostAllowed(con->get_request_header("Host"), options_.bind, port_)) {
+      ++counters_.rejected_host;
+      con->set_status(websocketpp::http::status_code::forbidden);
+      con->replace_header("Content-Type", "text/plain");
+      con->set_body("this server answers to the names it is bound to, not to " + con->get_request_header("Host") + "\n");
+      return;
+    }
     std::string resource = con->get_resource();
     const size_t q = resource.find('?');
     if (q != std::string::npos) resource.resize(q);
@@ -197,7 +223,7 @@ void WebServer::start() {
       std::ostringstream o;
       o << "{\"connections\":" << c.connections << ",\"messages\":" << c.messages
         << ",\"rejected_malformed\":" << c.rejected_malformed << ",\"rejected_token\":" << c.rejected_token
-        << ",\"rejected_origin\":" << c.rejected_origin
+        << ",\"rejected_origin\":" << c.rejected_origin << ",\"rejected_host\":" << c.rejected_host
         << ",\"frames_sent\":" << c.frames_sent << ",\"frames_skipped\":" << c.frames_skipped
         << ",\"bytes_sent\":" << c.bytes_sent << ",\"http_requests\":" << c.http_requests
         << ",\"http_not_found\":" << c.http_not_found;
@@ -234,6 +260,10 @@ void WebServer::start() {
     Server::connection_ptr con = impl->server.get_con_from_hdl(h);
     const std::string r = con->get_resource();
     if (r != "/ws" && r.rfind("/ws?", 0) != 0) return false;
+    if (!hostAllowed(con->get_request_header("Host"), options_.bind, port_)) {
+      ++counters_.rejected_host;
+      return false;
+    }
     if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), options_.bind, port_))
       return true;
     ++counters_.rejected_origin;

@@ -33,6 +33,7 @@ struct WebCounters {
   std::atomic<int64_t> rejected_malformed{0}; // not JSON, unknown type, bad fields, too long
   std::atomic<int64_t> rejected_token{0};     // an action from a page without the token
   std::atomic<int64_t> rejected_origin{0};    // a WebSocket from another site's page (its Origin), refused
+  std::atomic<int64_t> rejected_host{0};      // a request whose Host is not a name this server is bound to
   std::atomic<int64_t> frames_sent{0};
   std::atomic<int64_t> frames_skipped{0};     // newest-wins: the page had not taken the last one
   std::atomic<int64_t> bytes_sent{0};
@@ -44,6 +45,12 @@ struct WebCounters {
 // empty (not a browser) or the same site; with a loopback bind the host must
 // be a loopback name too.
 bool sameOrigin(const std::string& origin, const std::string& host, const std::string& bind, int port);
+
+// A request's Host header against the names the server is bound to: for a loopback bind 127.0.0.1,
+// localhost or [::1]; for one address, that address; for every address (0.0.0.0, ::) any name. With
+// or without the port (then ours). A page of another site whose DNS name now resolves to 127.0.0.1
+// (DNS rebinding) sends its own name: refused, so it reads neither /status.json nor the meshes.
+bool hostAllowed(const std::string& host, const std::string& bind, int port);
 
 class WebServer {
  public:

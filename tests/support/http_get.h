@@ -13,7 +13,7 @@
 
 namespace igms::test {
 
-inline std::string httpGet(int port, const std::string& target) {
+inline std::string httpGet(int port, const std::string& target, const std::string& host = "127.0.0.1") {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -23,7 +23,7 @@ inline std::string httpGet(int port, const std::string& target) {
     close(fd);
     return "";
   }
-  const std::string request = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  const std::string request = "GET " + target + " HTTP/1.1\r\nHost: " + host + "\r\nConnection: close\r\n\r\n";
   if (send(fd, request.data(), request.size(), 0) < 0) {
     close(fd);
     return "";

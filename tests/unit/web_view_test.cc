@@ -364,6 +364,17 @@ TEST(WebServer, AWebSocketMustComeFromThePagesOwnOrigin) {
   EXPECT_FALSE(sameOrigin("http://evil.example", "lab-pc:8081", "0.0.0.0", 8081));
 }
 
+TEST(WebServer, TheHostMustBeANameTheServerIsBoundTo) {
+  using igms::web::hostAllowed;
+  for (const char* host : {"127.0.0.1:8081", "127.0.0.1", "localhost:8081", "localhost", "[::1]:8081", "[::1]"})
+    EXPECT_TRUE(hostAllowed(host, "127.0.0.1", 8081)) << host;
+  for (const char* host : {"rebind.example:8081", "rebind.example", "127.0.0.1:8080", "", "[::1", "10.0.0.5:8081"})
+    EXPECT_FALSE(hostAllowed(host, "127.0.0.1", 8081)) << host;
+  EXPECT_TRUE(hostAllowed("10.0.0.5:8081", "10.0.0.5", 8081));  // bound to one address: that one
+  EXPECT_FALSE(hostAllowed("localhost:8081", "10.0.0.5", 8081));
+  EXPECT_TRUE(hostAllowed("lab-pc:8081", "0.0.0.0", 8081));  // bound to every address: any name
+}
+
 TEST(WebServer, RoutesTokenAndCounters) {
   const fs::path d = tempDir("server");
   write(d / "page/index.html", "<html>igms page</html>");
@@ -422,7 +433,18 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(wsSession(port, "?token=abc123", "{}", own).first_message, "device");
   // Over the size limit: dropped (the connection closes), counted, the server goes on.
   wsSession(port, "", std::string(64 * 1024, 'x'));
+  // DNS rebinding: another site's name for 127.0.0.1 in Host reads nothing (a page of that site would
+  // send it); this server's own names, with or without its port, do.
+  const std::string p = ":" + std::to_string(port);
+  for (const std::string& host : std::vector<std::string>{"rebind.example" + p, "rebind.example", "127.0.0.1:1", "evil.example:80"}) {
+    EXPECT_EQ(httpStatus(httpGet(port, "/status.json", host)), 403) << host;
+    EXPECT_EQ(httpStatus(httpGet(port, mesh, host)), 403) << host;
+  }
+  for (const std::string& host : std::vector<std::string>{"127.0.0.1" + p, "localhost" + p, "localhost", "[::1]" + p})
+    EXPECT_EQ(httpStatus(httpGet(port, "/status.json", host)), 200) << host;
   const nlohmann::json s = nlohmann::json::parse(igms::test::httpBody(httpGet(port, "/status.json")));
+  EXPECT_EQ(httpStatus(httpGet(port, "/status.json", "")), 400) << "no Host: the HTTP layer refuses it first";
+  EXPECT_EQ(s["rejected_host"].get<int>(), 8);
   EXPECT_GE(s["http_not_found"].get<int>(), 5);
   EXPECT_EQ(s["messages"].get<int>(), 4);
   EXPECT_EQ(s["rejected_origin"].get<int>(), 2);
