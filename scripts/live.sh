@@ -71,7 +71,12 @@ stop_all() {
 trap stop_all EXIT
 trap 'exit 130' INT TERM
 out=out/live
+# The device URL carries the page's token: its files are this user's alone (another local account
+# reading it could drive the robot).
+umask 077
 mkdir -p "$out"
+chmod 700 "$out"
+rm -f "$out/device.url" "$out/viewer.url"  # made anew under the umask (a redirect keeps an old file's mode)
 "$build/server/igms-server" --scene "$scene" --lcm-url "$url" --quiet &
 pids+=($!)
 "$build/tools/igms-viewer" --lcm-url "$url" --port "$view_port" > "$out/viewer.url" 2> "$out/viewer.log" &

@@ -1,9 +1,10 @@
 #include "haptic_client/device/web_device.h"
 
+#include <openssl/rand.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
-#include <random>
 #include <regex>
 
 #include "core/realtime/clock.h"
@@ -19,10 +20,12 @@ namespace {
 using nlohmann::json;
 using web::PageMessage;
 
+// 128 bits from OpenSSL's generator (std::random_device need not be a cryptographic source).
 std::string newToken() {
-  std::random_device rd;
+  unsigned char bytes[16];
+  if (RAND_bytes(bytes, sizeof bytes) != 1) throw std::runtime_error("--device web: no random bytes (OpenSSL)");
   char buf[33];
-  std::snprintf(buf, sizeof buf, "%08x%08x%08x%08x", rd(), rd(), rd(), rd());
+  for (int i = 0; i < 16; ++i) std::snprintf(buf + 2 * i, 3, "%02x", bytes[i]);
   return buf;
 }
 

@@ -5,7 +5,8 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
-#include <random>
+#include <openssl/rand.h>
+#include <stdexcept>
 #include <thread>
 
 #include "bus/bus_key.h"
@@ -26,9 +27,12 @@
 namespace igms {
 namespace {
 
+// 63 bits from OpenSSL's generator (std::random_device need not be a cryptographic source), never 0.
 int64_t randomToken() {
-  std::random_device rd;
-  return (static_cast<int64_t>(rd()) << 31) ^ static_cast<int64_t>(rd()) ^ getpid();
+  uint64_t bits = 0;
+  if (RAND_bytes(reinterpret_cast<unsigned char*>(&bits), sizeof bits) != 1)
+    throw std::runtime_error("no random bytes for the session token (OpenSSL)");
+  return static_cast<int64_t>(bits >> 1) | 1;
 }
 
 const char* runningWord(const ServerOptions& o) {

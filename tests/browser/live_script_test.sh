@@ -17,6 +17,9 @@ cat "$out/live.txt"
 device=$(sed -n 's/.*(your mouse is the device): //p' "$out/live.txt")
 [[ $device == http://127.0.0.1:17893/#token=* ]] || { echo "FAIL: no device URL with a token"; exit 1; }
 grep -q "watch only: *http://127.0.0.1:17894/" "$out/live.txt" || { echo "FAIL: no watch-only URL"; exit 1; }
+# The file that holds the token, and its folder, are this user's alone.
+modes="$(stat -c %a out/live) $(stat -c %a out/live/device.url)"
+[[ $modes == "700 600" ]] || { echo "FAIL: out/live and device.url have modes $modes, not 700 600"; exit 1; }
 timeout 60 chromium --headless --no-sandbox --use-gl=swiftshader --enable-unsafe-swiftshader --window-size=800,600 \
   --screenshot="$out/shot.png" --virtual-time-budget=4000 "$device" 2>/dev/null
 status=$(curl -s http://127.0.0.1:17893/status.json)
