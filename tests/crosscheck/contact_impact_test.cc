@@ -15,11 +15,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/contact/contact_detection.h"
-#include "core/contact/contact_solver.h"
-#include "core/dynamics/forward_dynamics.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
+#include "tests/support/contact_solve_probe.h"
 #include "tests/support/test_models.h"
 
 namespace igms {
@@ -35,23 +33,13 @@ struct Impacts {
 
 // Steps the scene for `steps`, and at each step with contact takes the contact solve alone.
 Impacts measure(Simulation& sim, int steps) {
-  const Model& model = sim.model();
-  Data data(model);
-  ContactDetection detection(*sim.contactModel());
-  ContactSolver solver(model, *sim.contactModel());
-  ContactSet set(sim.contactModel()->capacity());
-  VectorX v_free(model.nv), v(model.nv), v_position(model.nv);
+  test::ContactSolveProbe probe(sim);
   Impacts out;
   for (int k = 0; k < steps; ++k) {
-    EXPECT_TRUE(forwardDynamics(model, data, sim.q(), sim.v(), VectorX::Zero(model.nv)));
-    detection.detect(data, set);
-    if (set.n > 0) {
+    if (probe.solve(sim.q(), sim.v())) {
       ++out.steps_with_contact;
-      v_free = sim.v() + sim.scene().dt * data.qdd;
-      v = v_free;
-      solver.solve(data, data.Hfact, sim.scene().dt, sim.v(), set, v, v_position);
-      const auto H = data.H.selfadjointView<Eigen::Upper>();
-      const double before = 0.5 * v_free.dot(H * v_free), after = 0.5 * v.dot(H * v);
+      const auto H = probe.data.H.selfadjointView<Eigen::Upper>();
+      const double before = 0.5 * probe.v_free.dot(H * probe.v_free), after = 0.5 * probe.v.dot(H * probe.v);
       out.largest_gain = std::max(out.largest_gain, after - before);
       out.largest_energy = std::max(out.largest_energy, before);
     }
@@ -180,19 +168,12 @@ TEST(ContactImpact, ACradleOnTheFloorPassesTheBlowAlong) {
 TEST(ContactSolve, AWarmStartWorseThanColdIsDropped) {
   Simulation sim(sceneText("ground: true\nbodies: [{name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 2, "
                            "xyz: [0, 0, 0.1]}]\n"));
-  const Model& model = sim.model();
-  Data data(model);
-  ContactDetection detection(*sim.contactModel());
-  ContactSolver solver(model, *sim.contactModel());
-  ContactSet set(sim.contactModel()->capacity());
-  VectorX v(model.nv), v_position(model.nv);
-  auto solveAt = [&](const VectorX& velocity) {
-    EXPECT_TRUE(forwardDynamics(model, data, sim.q(), velocity, VectorX::Zero(model.nv)));
-    detection.detect(data, set);
-    v = velocity + sim.scene().dt * data.qdd;
-    solver.solve(data, data.Hfact, sim.scene().dt, velocity, set, v, v_position);
-  };
-  const VectorX rest = VectorX::Zero(model.nv);
+  test::ContactSolveProbe probe(sim);
+  const ContactSolver& solver = probe.solver;
+  const ContactSet& set = probe.set;
+  const VectorX& v = probe.v;
+  auto solveAt = [&](const VectorX& velocity) { probe.solve(sim.q(), velocity); };
+  const VectorX rest = VectorX::Zero(sim.model().nv);
   for (int k = 0; k < 3; ++k) solveAt(rest);
   ASSERT_EQ(set.n, 4);
   EXPECT_EQ(solver.stats().warm_dropped, 0) << "resting: the warm start is the answer";

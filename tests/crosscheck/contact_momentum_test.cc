@@ -11,11 +11,9 @@
 #include <fstream>
 #include <string>
 
-#include "core/contact/contact_detection.h"
-#include "core/contact/contact_solver.h"
-#include "core/dynamics/forward_dynamics.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
+#include "tests/support/contact_solve_probe.h"
 #include "tests/support/test_models.h"
 
 namespace igms {
@@ -35,22 +33,13 @@ TEST(ContactMomentum, LegsStrikingEachOtherPutNoNetImpulseOnTheRobot) {
       "  v: [0, 0, 0, 0, 0, 0,  -6, 0, 0,  0, 0, 0,  6, 0, 0,  0, 0, 0]\n"
       "controller: {kind: pd, kp: 1, kd: 0.01}\ncontact: {self_collision: true}\n"
       "simulation: {integrator: linearly_implicit, dt: 0.001}\n"));
-  const Model& model = sim.model();
-  Data data(model);
-  ContactDetection detection(*sim.contactModel());
-  ContactSolver solver(model, *sim.contactModel());
-  ContactSet set(sim.contactModel()->capacity());
-  VectorX v(model.nv), v_position(model.nv);
+  test::ContactSolveProbe probe(sim);
   double worst = 0.0, largest = 0.0;
   int touching = 0;
   for (int k = 0; k < 400; ++k) {
-    ASSERT_TRUE(forwardDynamics(model, data, sim.q(), sim.v(), VectorX::Zero(model.nv)));
-    detection.detect(data, set);
-    if (set.n > 0) {
+    if (probe.solveFrom(sim.q(), sim.v(), sim.v())) {
       ++touching;
-      v = sim.v();
-      solver.solve(data, data.Hfact, sim.scene().dt, sim.v(), set, v, v_position);
-      const VectorX impulse = data.H.selfadjointView<Eigen::Upper>() * (v - sim.v());
+      const VectorX impulse = probe.data.H.selfadjointView<Eigen::Upper>() * (probe.v - sim.v());
       largest = std::max(largest, impulse.norm());
       worst = std::max(worst, impulse.head<6>().norm());
     }
