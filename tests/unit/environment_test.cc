@@ -163,6 +163,31 @@ TEST(Environment, TheStepAllocatesNothingWithContact) {
   }
 }
 
+TEST(Environment, TheStepAllocatesNothingThroughChainedImpactsAndResistance) {
+  // Three balls on a floor, the first rolling into the others at 0.1 m/s (its blow passed along the
+  // row, contact_impacts.h), each with rolling and torsional resistance (three more rows a point).
+  Simulation sim(parseScene(
+      "ground: {height: 0, material: floor}\n"
+      "materials: {steel: {friction: 0.2, restitution: 1.0, rolling: 0.001, torsion: 0.001}, "
+      "floor: {friction: 0.5, rolling: 0.002, torsion: 0.001}}\n"
+      "bodies:\n"
+      "  - {name: a, shape: sphere, radius: 0.05, mass: 1, xyz: [-0.105, 0, 0.05], v: [0.1, 0, 0], w: [0, 2, 3], "
+      "material: steel}\n"
+      "  - {name: b, shape: sphere, radius: 0.05, mass: 1, xyz: [0, 0, 0.05], material: steel}\n"
+      "  - {name: c, shape: sphere, radius: 0.05, mass: 1, xyz: [0.1, 0, 0.05], material: steel}\n",
+      "chain.yaml", test::sourceDir() + "/scenes"));
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+  int passed = 0;
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 200; ++k) {
+      sim.step(nullptr);
+      passed += sim.contactStats().impact_rounds > 0;
+    }
+  });
+  EXPECT_EQ(n, 0u);
+  EXPECT_GT(passed, 0) << "the blow was passed along within the steps measured";
+}
+
 TEST(Environment, TheSameSceneGivesTheSameBits) {
   Simulation a(shipped("puma_table.yaml")), b(shipped("puma_table.yaml"));
   for (int k = 0; k < 3000; ++k) {
