@@ -14,18 +14,19 @@ constexpr int kHalvings = 20;      // of the restitution factor, where a pair's 
 }  // namespace
 
 bool impactsCanPass(const ContactRows& rows) {
+  // Over every group, in the solve or not (the trees' lists hold only those in the solve): bouncing
+  // groups are few, so a scan of the others for each is cheap.
   for (int gi = 0; gi < rows.size(); ++gi) {
     const ContactGroup& g = rows.group(gi);
     if (!g.complete) continue;
     bool bounces = false;
     for (int k = 0; k < g.points; ++k) bounces = bounces || g.bounce[k];
     if (!bounces) continue;
-    for (const int t : {g.tree_a, g.tree_b}) {
-      if (t < 0) continue;
-      for (int j = 0; j < rows.treeGroups(t); ++j) {
-        const int other = rows.treeGroup(t, j);
-        if (other != gi) return true;
-      }
+    for (int gj = 0; gj < rows.size(); ++gj) {
+      if (gj == gi) continue;
+      const ContactGroup& o = rows.group(gj);
+      for (const int t : {g.tree_a, g.tree_b})
+        if (t >= 0 && (o.tree_a == t || o.tree_b == t)) return true;
     }
   }
   return false;
