@@ -87,10 +87,13 @@ def main():
         wait(lambda: not js("return window.igms.state.frame.timeline.playing"))
 
         def seek(t):
+            # The frame's sim time, boxed: before the log's first state it is 0.0, which is an answer too
+            # (unboxed, a falsy 0.0 read as "no answer yet" and the wait timed out: a loaded machine's
+            # Go1 server loads late, so the bisection probed that stretch).
             js("const s = document.getElementById('seek'); s.value = arguments[0];"
                "s.dispatchEvent(new Event('change'));", t)
-            return wait(lambda: (lambda f: f["t"] if abs(f["timeline"]["t"] - t) < 0.002 else None)(
-                js("return window.igms.state.frame")) or None)
+            return wait(lambda: (lambda f: [f["t"]] if f and abs(f["timeline"]["t"] - t) < 0.002 else None)(
+                js("return window.igms.state.frame")))[0]
 
         end = tl["end"]
         counts = {}
