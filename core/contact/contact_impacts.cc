@@ -47,8 +47,6 @@ double gainOf(const ContactGroup& g, const ContactRowVector& u, double* scale) {
 ImpactPassing passImpacts(ContactRows& rows, const ContactSet& contacts, double h, double bounce_velocity,
                           int max_rounds, double tolerance, VectorX& z) {
   ImpactPassing out;
-  if (!impactsCanPass(rows)) return out;
-  out.ran = true;
   for (; out.rounds < max_rounds; ++out.rounds) {
     bool any = false;
     for (int gi = 0; gi < rows.size(); ++gi) {
@@ -64,7 +62,7 @@ ImpactPassing passImpacts(ContactRows& rows, const ContactSet& contacts, double 
       for (int k = 0; k < P; ++k) {
         const Contact& c = contacts[g.first + k];
         approach[k] = g.approach[k] - moved[k];
-        bounce[k] = c.restitution > 0.0 && approach[k] > bounce_velocity && c.distance + h * u[k] < 0.0;
+        bounce[k] = bouncesAt(c, approach[k], u[k], h, bounce_velocity);
         impacts = impacts || bounce[k];
       }
       if (!impacts) continue;

@@ -20,7 +20,6 @@
 namespace igms {
 
 struct ImpactPassing {
-  bool ran = false;  // some impact was passed along: the solve's bounces are done
   int rounds = 0;    // rounds over the pairs
   int scaled = 0;    // pair impacts whose restitution was scaled down to add no energy
   bool settled = false;  // the last round had no pair approaching
@@ -30,7 +29,7 @@ struct ImpactPassing {
 // bodies: a chain an impact can pass along.
 bool impactsCanPass(const ContactRows& rows);
 
-// Where impactsCanPass, over the groups in the solve (complete(): all of them, as a pair waiting
+// Called where impactsCanPass, over the groups in the solve (complete(): all of them, as a pair waiting
 // outside the solve may be struck), their impacts into g.impact and the accumulator z
 // (zero before; D^-1 sum X impact after, for ContactRows::apply).
 ImpactPassing passImpacts(ContactRows& rows, const ContactSet& contacts, double h, double bounce_velocity,

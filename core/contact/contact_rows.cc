@@ -216,7 +216,7 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
       for (int e = 0; e < count; ++e) u0 += J[e] * v0[dof_[static_cast<size_t>(entry + e)]];
       g.approach[k] = -u0;
       // An impact that bounces: fast enough, and it reaches the surface within this step.
-      g.bounce[k] = c.restitution > 0.0 && g.approach[k] > bounce_velocity && c.distance + h * g.b[k] < 0.0;
+      g.bounce[k] = bouncesAt(c, g.approach[k], g.b[k], h, bounce_velocity);
       g.bounce_target[k] = c.restitution * g.approach[k];
       g.target[k] = g.bounce[k] ? g.bounce_target[k] : -std::max(c.distance, 0.0) / h;
     }

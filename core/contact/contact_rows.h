@@ -61,6 +61,12 @@ struct ContactGroup {
   ContactRowVector trial, trial_u;
 };
 
+// Newton's restitution applies at a point that approaches at `approach` (m/s, from the step's start),
+// faster than bounce_velocity, and reaches the surface within the step at normal speed u.
+inline bool bouncesAt(const Contact& c, double approach, double u, double h, double bounce_velocity) {
+  return c.restitution > 0.0 && approach > bounce_velocity && c.distance + h * u < 0.0;
+}
+
 class ContactRows {
  public:
   ContactRows(const Model& model, const ContactModel& contacts);

@@ -88,10 +88,11 @@ void ContactSolver::report(ContactSet& contacts) {
       const Vector3 r = contacts[g.first + k].point - g.centroid;
       spread += (r - r.dot(g.n) * g.n).squaredNorm();
     }
+    const Vector3 moment = g.resists ? Vector3(taken[3] * g.n + taken[4] * g.t1 + taken[5] * g.t2) : Vector3::Zero();
     for (int k = 0; k < P; ++k) {
       Contact& c = contacts[g.first + k];
       c.impulse = taken[k] * c.normal;
-      c.moment = g.resists ? Vector3(taken[3] * g.n + taken[4] * g.t1 + taken[5] * g.t2) : Vector3::Zero();
+      c.moment = moment;
       if (g.carries[k] && carrying > 0) {
         c.impulse += friction / carrying;
         if (torsion != 0.0 && spread > 0.0) {
@@ -285,22 +286,19 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
     stats_.deferred = 0;
     const ImpactPassing passing =
         passImpacts(rows_, contacts, h, settings_.bounce_velocity, settings_.iterations, settings_.tolerance, z_);
-    if (passing.ran) {
-      stats_.impact_rounds = passing.rounds;
-      stats_.restitution_scaled += passing.scaled;
-      for (int gi = 0; gi < ng; ++gi) {
-        ContactGroup& g = rows_.group(gi);
-        if (!g.complete) continue;
-        g.b.head(g.rows) += rows_.velocity(g, z_, g.rows);
-        for (int k = 0; k < g.points; ++k) {
-          g.bounce[k] = false;
-          g.target[k] = -std::max(contacts[g.first + k].distance, 0.0) / h;
-        }
+    stats_.impact_rounds = passing.rounds;
+    stats_.restitution_scaled += passing.scaled;
+    for (int gi = 0; gi < ng; ++gi) {
+      ContactGroup& g = rows_.group(gi);
+      g.b.head(g.rows) += rows_.velocity(g, z_, g.rows);
+      for (int k = 0; k < g.points; ++k) {
+        g.bounce[k] = false;
+        g.target[k] = -std::max(contacts[g.first + k].distance, 0.0) / h;
       }
-      rows_.apply(LD, z_, v);
-      v_free_ = v;
-      bounces = false;
     }
+    rows_.apply(LD, z_, v);
+    v_free_ = v;
+    bounces = false;
   }
   bool converged = false;
   constexpr int kLetIn = 4;  // solves with pairs let in before every waiting pair is let in
