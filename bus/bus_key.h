@@ -18,6 +18,10 @@ inline constexpr const char* kKeyFileHelp =
     "sign every message with the bus key in this file and accept only messages signed with it "
     "(default: $IGMS_KEY_FILE; without one, the bus is unauthenticated)";
 inline constexpr const char* kKeyFileEnv = "IGMS_KEY_FILE";
+// The help for --accept-replay, in the programs that act on what they hear (server, client, device).
+inline constexpr const char* kAcceptReplayHelp =
+    "also take replayed traffic (igms-replay play signs it as a replay; without this it is refused and counted "
+    "as replayed_session)";
 
 // Reads a key file. Throws std::runtime_error naming the file and the problem:
 // missing, readable by group or others, not 64 hex digits.

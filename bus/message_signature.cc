@@ -13,7 +13,9 @@ namespace igms::bus {
 bool findTrailer(const uint8_t* data, size_t size, Trailer* out) {
   if (size < kTrailerBytes) return false;
   const uint8_t* t = data + size - kTrailerBytes;
-  if (std::memcmp(t, kMagic, sizeof kMagic) != 0) return false;
+  const bool live = std::memcmp(t, kMagic, sizeof kMagic) == 0;
+  if (!live && std::memcmp(t, kReplayMagic, sizeof kReplayMagic) != 0) return false;
+  out->replayed = !live;
   t += sizeof kMagic;
   std::memcpy(out->sender.data(), t, kSenderBytes);
   t += kSenderBytes;
@@ -54,19 +56,20 @@ SenderKeys::SenderKeys(const BusKey& bus_key) {
 
 SenderKeys::~SenderKeys() { EVP_MAC_CTX_free(ctx_); }
 
-bool SenderKeys::derive(const SenderId& sender, uint8_t key[32]) {
-  static constexpr char kLabel[] = "igms bus v1";
+bool SenderKeys::derive(const SenderId& sender, bool replayed, uint8_t key[32]) {
+  static constexpr std::string_view kLive = "igms bus v1", kReplay = "igms bus replay v1";
+  const std::string_view label = replayed ? kReplay : kLive;
   size_t length = 0;
   // A null key restarts the MAC under the key it was initialised with.
   return EVP_MAC_init(ctx_, nullptr, 0, nullptr) == 1 &&
-         EVP_MAC_update(ctx_, reinterpret_cast<const uint8_t*>(kLabel), sizeof kLabel - 1) == 1 &&
+         EVP_MAC_update(ctx_, reinterpret_cast<const uint8_t*>(label.data()), label.size()) == 1 &&
          EVP_MAC_update(ctx_, sender.data(), sender.size()) == 1 && EVP_MAC_final(ctx_, key, &length, 32) == 1 &&
          length == 32;
 }
 
-bool SenderMac::key(SenderKeys& keys, const SenderId& sender) {
+bool SenderMac::key(SenderKeys& keys, const SenderId& sender, bool replayed) {
   uint8_t subkey[32];
-  const bool ok = keys.derive(sender, subkey) && EVP_EncryptInit_ex(ctx_, nullptr, nullptr, subkey, nullptr) == 1;
+  const bool ok = keys.derive(sender, replayed, subkey) && EVP_EncryptInit_ex(ctx_, nullptr, nullptr, subkey, nullptr) == 1;
   OPENSSL_cleanse(subkey, sizeof subkey);
   return ok;
 }

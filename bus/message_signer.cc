@@ -40,9 +40,9 @@ const SenderId& processSender() {
   return g_sender;
 }
 
-MessageSigner::MessageSigner(const BusKey& key) : keys_(key) {
+MessageSigner::MessageSigner(const BusKey& key, SenderKind kind) : keys_(key), kind_(kind) {
   generation_ = g_generation.load();
-  if (!mac_.key(keys_, processSender())) throw std::runtime_error("OpenSSL: cannot key AES-256-GCM");
+  if (!mac_.key(keys_, processSender(), kind_ == SenderKind::kReplay)) throw std::runtime_error("OpenSSL: cannot key AES-256-GCM");
 }
 
 size_t MessageSigner::sign(std::string_view channel, uint8_t* buffer, size_t size) {
@@ -50,12 +50,12 @@ size_t MessageSigner::sign(std::string_view channel, uint8_t* buffer, size_t siz
   bool keyed = g_sender_ok.load();
   if (generation_ != g_generation.load()) {  // forked since: the new sender's subkey
     generation_ = g_generation.load();
-    keyed = keyed && mac_.key(keys_, sender);
+    keyed = keyed && mac_.key(keys_, sender, kind_ == SenderKind::kReplay);
     rekeyed_ = keyed;
   }
   const uint64_t counter = g_counter.fetch_add(1, std::memory_order_relaxed) + 1;
   uint8_t* t = buffer + size;
-  std::memcpy(t, kMagic, sizeof kMagic);
+  std::memcpy(t, kind_ == SenderKind::kReplay ? kReplayMagic : kMagic, sizeof kMagic);
   std::memcpy(t + sizeof kMagic, sender.data(), kSenderBytes);
   uint8_t* c = t + sizeof kMagic + kSenderBytes;
   for (size_t i = 0; i < kCounterBytes; ++i) c[i] = static_cast<uint8_t>(counter >> (8 * (kCounterBytes - 1 - i)));

@@ -19,9 +19,13 @@ namespace igms::bus {
 // This process's sender id (drawn on first use; drawn again in a forked child).
 const SenderId& processSender();
 
+// What a signer's messages are: live traffic, or a replay of recorded traffic
+// (igms-replay play: its own magic and key label, message_signature.h).
+enum class SenderKind { kLive, kReplay };
+
 class MessageSigner {
  public:
-  explicit MessageSigner(const BusKey& key);
+  explicit MessageSigner(const BusKey& key, SenderKind kind = SenderKind::kLive);
   // `buffer` holds the payload in [0, size) and room for kTrailerBytes more:
   // appends the trailer and returns the signed size.
   size_t sign(std::string_view channel, uint8_t* buffer, size_t size);
@@ -31,6 +35,7 @@ class MessageSigner {
  private:
   SenderKeys keys_;
   SenderMac mac_;
+  SenderKind kind_;
   uint64_t generation_ = 0;  // the process sender's it is keyed for
   bool rekeyed_ = false;
 };

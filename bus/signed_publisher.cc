@@ -4,8 +4,9 @@
 
 namespace igms::bus {
 
-SignedPublisher::SignedPublisher(lcm::LCM& lcm, const std::optional<BusKey>& key, size_t reserve) : lcm_(lcm) {
-  if (key) signer_ = std::make_unique<MessageSigner>(*key);
+SignedPublisher::SignedPublisher(lcm::LCM& lcm, const std::optional<BusKey>& key, size_t reserve, SenderKind kind)
+    : lcm_(lcm) {
+  if (key) signer_ = std::make_unique<MessageSigner>(*key, kind);
   buffer_.resize(reserve + kTrailerBytes);
 }
 

@@ -18,7 +18,8 @@ namespace igms::bus {
 
 class SignedPublisher {
  public:
-  SignedPublisher(lcm::LCM& lcm, const std::optional<BusKey>& key, size_t reserve = 64 * 1024);
+  SignedPublisher(lcm::LCM& lcm, const std::optional<BusKey>& key, size_t reserve = 64 * 1024,
+                  SenderKind kind = SenderKind::kLive);
   // 0 on success, like lcm::LCM::publish.
   int publish(const std::string& channel, const void* data, size_t size);
   // The same without the copy: `buffer` holds the payload in [0, size) and kTrailerBytes more room

@@ -10,8 +10,12 @@ The trailer after the LCM payload is "IGB1" | sender (16 B) | counter (8 B) |
 time (8 B, microseconds) | tag (16 B). The tag is AES-256-GMAC under the
 sender's key HMAC-SHA256(bus key, "igms bus v1" | sender), with the counter as
 the nonce, over len(channel) (4 B) | channel | payload | the trailer before the
-tag. Readers without the key decode the payload as before. Needs the
+tag. A replay (igms-replay play) signs with "IGR1" and the label "igms bus
+replay v1". Readers without the key decode the payload as before. Needs the
 `cryptography` package (Debian: python3-cryptography).
+
+The Verifier makes the checks bus/message_verifier.h makes, with the same
+bounds, and both languages' tests run the vectors in tests/data/bus_vectors.json.
 """
 import errno
 import hashlib
@@ -25,10 +29,16 @@ import weakref
 from cryptography.hazmat.primitives.ciphers.aead import AESGCM
 
 MAGIC = b"IGB1"
+REPLAY_MAGIC = b"IGR1"
 TRAILER_BYTES = 4 + 16 + 8 + 8 + 16
 
-
-MAX_AGE_S = 60.0
+# The bounds of bus/message_verifier.h.
+MAX_AGE_S = 60.0          # a message signed longer ago (or ahead) is stale
+FORGET_S = 2 * MAX_AGE_S  # a sender silent this long may be forgotten: nothing it signed is fresh then
+WINDOW = 1024             # counters behind the newest still taken once
+MAX_SENDERS = 256
+MAX_STREAMS = 2048
+REFUSALS = ("unsigned", "bad_signature", "replayed", "too_many_senders", "stale", "replayed_session", "other_sender")
 
 
 def read_key_file(path):
@@ -62,8 +72,9 @@ def read_key_file(path):
     return key
 
 
-def _gcm(bus_key, sender):
-    return AESGCM(hmac.new(bus_key, b"igms bus v1" + sender, hashlib.sha256).digest())
+def _gcm(bus_key, sender, replayed=False):
+    label = b"igms bus replay v1" if replayed else b"igms bus v1"
+    return AESGCM(hmac.new(bus_key, label + sender, hashlib.sha256).digest())
 
 
 def _tag(gcm, channel, head, counter):
@@ -96,44 +107,92 @@ class Signer:
 
     def sign(self, channel, payload):
         self._counter += 1
-        head = payload + MAGIC + self.sender + struct.pack(">QQ", self._counter, int(time.time() * 1e6))
-        return head + _tag(self._gcm, channel, head, self._counter)
+        return sign_as(self._bus_key, self.sender, self._counter, int(time.time() * 1e6), channel, payload,
+                       gcm=self._gcm)
+
+
+def sign_as(bus_key, sender, counter, time_us, channel, payload, replayed=False, gcm=None):
+    """A message signed as `sender` with this counter and time (a test's, or a Signer's)."""
+    head = payload + (REPLAY_MAGIC if replayed else MAGIC) + sender + struct.pack(">QQ", counter, time_us)
+    return head + _tag(gcm or _gcm(bus_key, sender, replayed), channel, head, counter)
 
 
 os.register_at_fork(after_in_child=Signer._after_fork_in_child)
 
 
 class Verifier:
-    """Takes a message once, signed under the bus key within a minute; counts what it refuses by reason.
-    A counter must be above the newest taken from its sender on its channel (no window: for one stream)."""
+    """Takes a message once, signed under the bus key within a minute of now; counts what it refuses by
+    reason (`refused`). As bus/message_verifier.h: a counter is new for its sender on its channel when it
+    is above the newest or one of the WINDOW before it not seen yet; at most MAX_SENDERS senders and
+    MAX_STREAMS (sender, channel) streams, a sender forgotten (its streams too) only after FORGET_S of
+    silence, when a new one needs its place; a replay's signature refused unless accept_replays."""
 
-    def __init__(self, bus_key):
+    def __init__(self, bus_key, accept_replays=False):
         self._key = bus_key
-        self._senders = {}  # sender -> AESGCM
-        self._newest = {}   # (sender, channel) -> counter
+        self._accept_replays = accept_replays
+        self._senders = {}  # (sender, replayed) -> [AESGCM, heard (monotonic s)]
+        self._streams = {}  # ((sender, replayed), channel) -> [newest, set of counters seen within the window]
         self.accepted = 0
-        self.refused = {"unsigned": 0, "bad_signature": 0, "replayed": 0, "stale": 0}
+        self.refused = {r: 0 for r in REFUSALS}
 
     def check(self, channel, data):
-        if len(data) < TRAILER_BYTES or data[-TRAILER_BYTES:-TRAILER_BYTES + 4] != MAGIC:
-            self.refused["unsigned"] += 1
-            return None
+        return self.check_at(channel, data, int(time.time() * 1e6), time.monotonic())
+
+    def _refuse(self, why):
+        self.refused[why] += 1
+        return None
+
+    def _forget(self, who):
+        del self._senders[who]
+        for stream in [s for s in self._streams if s[0] == who]:
+            del self._streams[stream]
+
+    def _silent(self, steady_s, but=None):
+        return [w for w, (_, heard) in self._senders.items() if w != but and steady_s - heard > FORGET_S]
+
+    def check_at(self, channel, data, now_us, steady_s):
+        """The payload, or None (counted): at `now_us` on the signers' wall clock, `steady_s` on a monotonic one."""
+        magic = data[-TRAILER_BYTES:-TRAILER_BYTES + 4] if len(data) >= TRAILER_BYTES else b""
+        if magic not in (MAGIC, REPLAY_MAGIC):
+            return self._refuse("unsigned")
+        replayed = magic == REPLAY_MAGIC
         t = len(data) - TRAILER_BYTES
-        sender = data[t + 4:t + 20]
+        sender = bytes(data[t + 4:t + 20])
         counter, when = struct.unpack(">QQ", data[t + 20:t + 36])
-        if sender not in self._senders:
-            if len(self._senders) > 256:
-                self._senders.clear()
-            self._senders[sender] = _gcm(self._key, sender)
-        if not hmac.compare_digest(_tag(self._senders[sender], channel, data[:-16], counter), data[-16:]):
-            self.refused["bad_signature"] += 1
-            return None
-        if abs(time.time() - when * 1e-6) > MAX_AGE_S:
-            self.refused["stale"] += 1
-            return None
-        if counter <= self._newest.get((sender, channel), 0):
-            self.refused["replayed"] += 1
-            return None
-        self._newest[(sender, channel)] = counter
+        who = (sender, replayed)
+        known = self._senders.get(who)
+        gcm = known[0] if known else _gcm(self._key, sender, replayed)
+        if not hmac.compare_digest(_tag(gcm, channel, bytes(data[:-16]), counter), bytes(data[-16:])):
+            return self._refuse("bad_signature")
+        if replayed and not self._accept_replays:
+            return self._refuse("replayed_session")
+        if abs(now_us - when) * 1e-6 > MAX_AGE_S:
+            return self._refuse("stale")
+        if not known:
+            if len(self._senders) >= MAX_SENDERS:
+                silent = self._silent(steady_s)
+                if not silent:
+                    return self._refuse("too_many_senders")
+                self._forget(min(silent, key=lambda w: self._senders[w][1]))
+            self._senders[who] = known = [gcm, steady_s]
+        stream = self._streams.get((who, channel))
+        if stream is None:
+            if len(self._streams) >= MAX_STREAMS:
+                for w in self._silent(steady_s, but=who):
+                    self._forget(w)
+                if len(self._streams) >= MAX_STREAMS:
+                    return self._refuse("too_many_senders")
+            self._streams[(who, channel)] = [counter, {counter}]
+        else:
+            newest, seen = stream
+            if counter > newest:
+                stream[0] = counter
+                stream[1] = {c for c in seen if c > counter - WINDOW}
+                stream[1].add(counter)
+            elif newest - counter >= WINDOW or counter in seen:
+                return self._refuse("replayed")
+            else:
+                seen.add(counter)
+        known[1] = steady_s
         self.accepted += 1
         return data[:t]

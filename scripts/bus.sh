@@ -12,8 +12,10 @@
 #                                  (a browser outside opens the viewer's page; Ctrl-C stops)
 #   scripts/bus.sh key             print the path of its bus key
 #   scripts/bus.sh down            remove it and its key (the processes on it keep their sockets)
-# The bus is signed: `up` makes it a key (mode 0600, in $XDG_RUNTIME_DIR or
-# /tmp) and `run` hands it to the command as IGMS_KEY_FILE, unless that is set.
+# The bus is signed: `up` makes it a key (mode 0600, in a private folder of
+# this user's, $XDG_RUNTIME_DIR/igms-bus-UID or /tmp/igms-bus-UID, mode 0700,
+# refused when someone else made it first) and `run` hands it to the command as
+# IGMS_KEY_FILE, unless that is set.
 # IGMS_BUS names it (default igms). `ip netns` needs root: as a user, sudo
 # enters the namespace and the command runs as you again.
 set -euo pipefail
@@ -22,9 +24,12 @@ sudo=""
 [[ $(id -u) -eq 0 ]] || sudo="sudo"
 
 source "$(dirname "$0")/lib/bus_key.sh"
-key_file=${XDG_RUNTIME_DIR:-/tmp}/igms-bus-$name.key
+[[ $name =~ ^[A-Za-z0-9_-]+$ ]] || { echo "bus.sh: IGMS_BUS is a name (letters, digits, '_', '-'), not '$name'" >&2; exit 2; }
+key_folder=${XDG_RUNTIME_DIR:-/tmp}/igms-bus-$(id -u)
+key_file=$key_folder/$name.key
 exists() { [[ -e /run/netns/$name ]]; }
 up() {
+  igms_private_folder "$key_folder" || exit 1
   [[ -e $key_file ]] || igms_new_key "$key_file"
   exists && return 0
   # Two first calls at once: one makes it, the other waits and finds it (the lock ends with the subshell,
@@ -37,7 +42,7 @@ up() {
     $sudo ip -n "$name" link set lo multicast on
     $sudo ip -n "$name" route add 224.0.0.0/4 dev lo
     echo "bus.sh: private bus '$name' is up (scripts/bus.sh run CMD joins it; scripts/bus.sh down removes it)" >&2
-  ) 9>"${TMPDIR:-/tmp}/igms-bus-$name.lock"
+  ) 9>"$key_folder/$name.lock"  # in the private folder: no lock file planted as a link in /tmp
 }
 
 case "${1:-}" in

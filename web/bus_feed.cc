@@ -18,6 +18,7 @@ void BusFeed::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& chann
 BusFeed::BusFeed(const std::string& url, BusView& view, const std::optional<bus::BusKey>& key,
                  const std::string& program)
     : lcm_(std::make_unique<lcm::LCM>(url)), view_(view), verifier_(key, program), program_(program) {
+  verifier_.acceptReplays();  // the page shows a replay (igms-replay play) as it shows a live session
   if (!lcm_->good()) throw std::runtime_error("cannot open LCM at " + url);
   out_ = std::make_unique<bus::SignedPublisher>(*lcm_, key, 16 * 1024);
   lcm::Subscription* sub = lcm_->subscribeFunction<BusFeed*>(".*", &BusFeed::onMessage, this);

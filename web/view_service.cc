@@ -14,6 +14,8 @@ ViewService::~ViewService() { stop(); }
 
 void ViewService::start() {
   server_.onOpen([this](int client, bool authorized) { welcome(client, authorized); });
+  // The page's first message held the token: it is the device now (its hello it already has).
+  server_.onAuthorized([this](int client) { server_.send(client, "{\"type\":\"welcome\",\"role\":\"device\"}"); });
   server_.onMessage([this](int client, bool authorized, const std::string& text) { message(client, authorized, text); });
   server_.onStatus([this] {
     std::string s = ",\"bus_undecodable\":" + std::to_string(bus_.undecodable()) +

@@ -1,6 +1,7 @@
 #include "web/web_server.h"
 
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -47,16 +48,13 @@ bool safeRelative(const std::string& p) {
   return true;
 }
 
-std::string queryValue(const std::string& resource, const std::string& key) {
-  const size_t q = resource.find('?');
-  if (q == std::string::npos) return "";
-  std::istringstream s(resource.substr(q + 1));
-  std::string pair;
-  while (std::getline(s, pair, '&')) {
-    const size_t eq = pair.find('=');
-    if (eq != std::string::npos && pair.substr(0, eq) == key) return pair.substr(eq + 1);
-  }
-  return "";
+// {"type":"auth","token":"..."}: a page presenting the token (its first message).
+bool authMessage(const std::string& text, std::string* token) {
+  if (text.size() > 512 || text.find("\"auth\"") == std::string::npos) return false;
+  const nlohmann::json m = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!m.is_object() || !m.contains("type") || m["type"] != "auth") return false;
+  *token = m.contains("token") && m["token"].is_string() ? m["token"].get<std::string>() : std::string();
+  return true;
 }
 
 // Constant-time comparison: the token is a secret.
@@ -75,12 +73,14 @@ struct WebServer::Impl {
   struct Connection {
     int id;
     bool authorized;
+    bool first = true;  // no message yet: the one that may carry the token
   };
   std::map<Handle, Connection, std::owner_less<Handle>> connections;  // server thread only
   std::map<int, Handle> by_id;                                         // server thread only
   int next_id = 1;
   MessageHandler on_message;
   OpenHandler on_open;
+  AuthorizedHandler on_authorized;
   std::function<std::string()> status_extra;
   std::mutex files_mutex;
   std::map<std::string, std::string> files;  // url path -> file
@@ -99,10 +99,12 @@ WebServer::~WebServer() {
 
 void WebServer::onMessage(MessageHandler h) { impl_->on_message = std::move(h); }
 void WebServer::onOpen(OpenHandler h) { impl_->on_open = std::move(h); }
+void WebServer::onAuthorized(AuthorizedHandler h) { impl_->on_authorized = std::move(h); }
 void WebServer::onStatus(std::function<std::string()> extra) { impl_->status_extra = std::move(extra); }
 
-bool sameOrigin(const std::string& origin, const std::string& host, const std::string& bind, int port) {
-  if (origin.empty()) return true;  // not a browser (a browser always sends Origin on a WebSocket)
+bool sameOrigin(const std::string& origin, const std::string& host, const std::string& bind, int port,
+                bool allow_no_origin) {
+  if (origin.empty()) return allow_no_origin;  // not a browser (a browser always sends Origin on a WebSocket)
   if (origin != "http://" + host && origin != "https://" + host) return false;  // another site's page
   // Bound to this machine only: the page must have come from a loopback name, so a site whose DNS name
   // resolves to 127.0.0.1 (DNS rebinding) is still another origin.
@@ -264,19 +266,18 @@ void WebServer::start() {
       ++counters_.rejected_host;
       return false;
     }
-    if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), options_.bind, port_))
+    if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), options_.bind, port_,
+                   options_.allow_no_origin))
       return true;
     ++counters_.rejected_origin;
     return false;
   });
   s.set_open_handler([this, impl](Handle h) {
-    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
-    const bool authorized = sameToken(queryValue(con->get_resource(), "token"), options_.token);
     const int id = impl->next_id++;
-    impl->connections[h] = Impl::Connection{id, authorized};
+    impl->connections[h] = Impl::Connection{id, false};
     impl->by_id[id] = h;
     ++counters_.connections;
-    if (impl->on_open) impl->on_open(id, authorized);
+    if (impl->on_open) impl->on_open(id, false);
   });
   s.set_close_handler([this, impl](Handle h) {
     // A message over the size limit ends its connection (close code 1009): a rejection too.
@@ -296,13 +297,32 @@ void WebServer::start() {
       ++counters_.rejected_malformed;
       return;
     }
-    if (impl->on_message) impl->on_message(it->second.id, it->second.authorized, m->get_payload());
+    Impl::Connection& c = it->second;
+    const bool first = c.first;
+    c.first = false;
+    std::string token;
+    if (authMessage(m->get_payload(), &token)) {
+      // One try, and only as the first message: a page cannot guess on and on over one socket.
+      if (first && sameToken(token, options_.token)) {
+        c.authorized = true;
+        if (impl->on_authorized) impl->on_authorized(c.id);
+      } else {
+        ++counters_.rejected_token;
+      }
+      return;
+    }
+    if (impl->on_message) impl->on_message(c.id, c.authorized, m->get_payload());
   });
 
   websocketpp::lib::error_code ec;
   boost::system::error_code address_error;
   const auto address = boost::asio::ip::make_address(options_.bind, address_error);
   if (address_error) throw std::runtime_error("--bind " + options_.bind + ": not an IP address");
+  if (!options_.token.empty() && !address.is_loopback())
+    throw std::runtime_error("--bind " + options_.bind +
+                             ": a page that may act binds to this machine only (127.0.0.1): there is no TLS here, so "
+                             "its token would cross the network in the clear; from another machine, use an SSH "
+                             "tunnel (ssh -L PORT:127.0.0.1:PORT this-host)");
   s.listen(boost::asio::ip::tcp::endpoint(address, static_cast<unsigned short>(options_.port)), ec);
   if (ec)
     throw std::runtime_error("cannot listen on " + options_.bind + ":" + std::to_string(options_.port) + ": " +

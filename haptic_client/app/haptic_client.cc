@@ -110,6 +110,9 @@ void printDeviceSummary(const ServoStats& s, const HapticDevice& device) {
                static_cast<long long>(device.failedCalls()));
   if (device.readingsRejected() > 0)
     std::fprintf(stderr, ", %lld readings rejected", static_cast<long long>(device.readingsRejected()));
+  if (s.blocked_reads > 0)
+    std::fprintf(stderr, ", %lld reads blocked over 5 ms (the force ramped out as for a lost device)",
+                 static_cast<long long>(s.blocked_reads.load()));
   std::fprintf(stderr, "\n");
   if (const std::string more = device.report(); !more.empty()) std::fprintf(stderr, "igms-haptic: %s\n", more.c_str());
 }
@@ -132,7 +135,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
-  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id, key);
+  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id, key, o.accept_replay);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;
@@ -149,7 +152,8 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
                             *X = links[static_cast<size_t>(f)];
                             return true;
                           },
-                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url, key};
+                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url, key,
+                          o.accept_replay};
     device = DeviceRegistry::make(o.device, context);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());

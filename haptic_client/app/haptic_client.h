@@ -28,6 +28,7 @@ struct ClientOptions {
   bool quiet = false;
   int rt_priority = 0;         // > 0: the servo loop asks for SCHED_FIFO at this priority and locks memory
   std::string key_file;        // the bus key (bus/bus_key.h); "": the bus is unauthenticated
+  bool accept_replay = false;  // take replayed traffic (igms-replay play) too
   std::string export_targets;  // a scripted device's targets, after the run, for the example plugin
 };
 

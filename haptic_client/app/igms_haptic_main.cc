@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   app.add_option("--device", o.device, "NAME[:ARGS], see below")->required();
   app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
   app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
+  app.add_flag("--accept-replay", o.accept_replay, igms::bus::kAcceptReplayHelp);
   app.add_option("--rate", o.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
   app.add_option("--deadline-us", o.deadline_us,
                  "while replies come back within this long, wait this long for this cycle's")

@@ -39,6 +39,8 @@ BusDevice::BusDevice(const std::string& args, const DeviceContext& context)
       lcm_(context.lcm_url),
       verifier_(context.key, "igms-haptic (device)"),
       publisher_(lcm_, context.key, 1024) {
+  verifier_.pinSender({reading_channel_});  // the device that speaks first is the device: no second signer for it
+  if (context.accept_replay) verifier_.acceptReplays();
   if (!validName(base_))
     throw std::runtime_error("--device lcm:NAME: NAME is a channel base (letters, digits, '_'), not '" + base_ + "'");
   if (!lcm_.good()) throw std::runtime_error("--device lcm: cannot open LCM at " + context.lcm_url);

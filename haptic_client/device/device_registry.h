@@ -26,6 +26,7 @@ struct DeviceContext {
   std::function<int(const std::string& link)> frame_index;
   std::string lcm_url;  // the bus the client is on (a device may watch it or send commands)
   std::optional<bus::BusKey> key;  // the bus key, for a device that watches or publishes
+  bool accept_replay = false;      // a device on the bus takes replayed readings too
 };
 
 struct DeviceEntry {

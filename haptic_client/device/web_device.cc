@@ -125,7 +125,7 @@ class WebDevice::Page {
       return PageMessage::Malformed;
     }
     // On a signed bus the signature is the proof (the key never goes out); else the session token.
-    c.auth = feed_.keyed() ? "" : std::to_string(view_.bus().serverToken());
+    c.auth = std::to_string(view_.bus().serverToken());  // binds it to this session, signed or not
     feed_.publish(channels::kCommand, c);
     ++commands_;
     return PageMessage::Handled;

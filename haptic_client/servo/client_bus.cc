@@ -20,7 +20,7 @@ ReceivedState initialState(int nlinks, int nq, int nv) {
 }  // namespace
 
 ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id,
-                     const std::optional<bus::BusKey>& key)
+                     const std::optional<bus::BusKey>& key, bool accept_replay)
     : client_id_(client_id),
       lcm_(url.empty() ? channels::kDefaultUrl : url),
       verifier_(key, "igms-haptic"),
@@ -30,6 +30,9 @@ ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t
       states_(initialState(nlinks, nq, nv)) {
   haptic_input_t probe{};
   buffer_.resize(static_cast<size_t>(probe.getEncodedSize()) + 256 + bus::kTrailerBytes);
+  // The server whose status or state is taken first is the session's: no second signer speaks for it.
+  verifier_.pinSender({channels::kRobotState, channels::kServerStatus});
+  if (accept_replay) verifier_.acceptReplays();
   if (!lcm_.good()) return;
   lcm_.subscribe(channels::kRobotState, &ClientBus::onState, this)->setQueueCapacity(100);
   lcm_.subscribe(channels::kServerStatus, &ClientBus::onStatus, this);

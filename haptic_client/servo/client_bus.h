@@ -37,7 +37,7 @@ class ClientBus {
   // client_id: this client's; each state names its hand among the others by it.
   // key: the bus key (none: unauthenticated).
   ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t client_id = 1,
-            const std::optional<bus::BusKey>& key = std::nullopt);
+            const std::optional<bus::BusKey>& key = std::nullopt, bool accept_replay = false);
   bool good() { return lcm_.good(); }
   lcm::LCM& lcm() { return lcm_; }
   // The status thread's publisher (client status, bus status).

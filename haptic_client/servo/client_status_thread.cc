@@ -38,8 +38,9 @@ void ClientStatusThread::run() {
     }
     if (stats_.device_lost != device_was_lost) {  // a bus device's readings stopped, or came back
       device_was_lost = stats_.device_lost;
-      std::fprintf(stderr, device_was_lost ? "igms-haptic: device lost (its readings stopped): forces ramping down\n"
-                                           : "igms-haptic: device back: forces ramping up\n");
+      std::fprintf(stderr, device_was_lost
+                               ? "igms-haptic: device lost (its readings stopped, or a read blocked): forces ramping down\n"
+                               : "igms-haptic: device back: forces ramping up\n");
     }
     if (now < next_status) continue;
     next_status += 0.1;

@@ -2,6 +2,7 @@
 
 #include <sched.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/realtime/clock.h"
@@ -62,7 +63,13 @@ void ServoLoop::cycle(int64_t k, double nominal_start) {
   const double t = static_cast<double>(k - 1) * period_;
   const double read_start = monotonicSeconds();
   const DeviceReading reading = device_.read(t);
-  stats_.device_read.add((monotonicSeconds() - read_start) * 1e6);
+  const double read_end = monotonicSeconds();
+  stats_.device_read.add((read_end - read_start) * 1e6);
+  if (read_end - read_start > config_.blocked_read_ms * 1e-3) {
+    stats_.blocked_reads.fetch_add(1, std::memory_order_relaxed);
+    blocked_until_ = read_end + std::max(read_end - read_start, config_.lost_ms * 1e-3);
+  }
+  const bool device_lost = reading.device_lost || read_end < blocked_until_;
   const Vector3 tip = map_.toScene(reading.position);
   const Vector3 tip_velocity = map_.scale * reading.velocity;
   // 2. The input: pull while the button is held, push when the tip touches a link.
@@ -81,7 +88,7 @@ void ServoLoop::cycle(int64_t k, double nominal_start) {
   sent_inputs_.put(k, sent, sent_at);
   stats_.mode = msg_.mode;
   // 3. The states; 4. the force.
-  render(k, tip, tip_velocity, awaitState(k, nominal_start), reading.device_lost);
+  render(k, tip, tip_velocity, awaitState(k, nominal_start), device_lost);
   ++stats_.cycles;
 }
 

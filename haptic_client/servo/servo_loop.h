@@ -40,6 +40,9 @@ struct ServoConfig {
   double local_budget_us = 300.0;  // the local model's compute per cycle (sets how many steps it may take)
   bool passivity = true;           // the time-domain passivity controller at the device port
   double passivity_tolerance = 0.025;  // J the energy balance may dip before it acts
+  // A device read that blocks longer than this (a plugin stuck on its driver): the device is held as
+  // lost for as long as it blocked (at least lost_ms), so the force ramps out as for a lost device.
+  double blocked_read_ms = 5.0;
 };
 
 class ServoLoop {
@@ -63,6 +66,7 @@ class ServoLoop {
   const double period_, sim_dt_;
   const RenderLimits render_limits_;
   const DeviceLimits device_limits_;
+  double blocked_until_ = -1.0;   // monotonic s: a blocked read holds the device as lost until then
   double phase_lag_ = 0.0;        // this cycle: how late an echo came that another hand's input held back, s
   int64_t last_phase_shift_ = -1000;
   const WorkspaceMap map_;

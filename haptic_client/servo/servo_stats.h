@@ -113,6 +113,7 @@ struct ServoStats {
   std::atomic<double> force[3] = {0, 0, 0};
   std::atomic<double> torque[3] = {0, 0, 0};  // N m rendered (a 6-dof device's 6-D pull)
   std::atomic<int64_t> phase_shifts{0};        // the loop's phase moved after another hand's (servo_loop.cc)
+  std::atomic<int64_t> blocked_reads{0};       // device reads over ServoConfig::blocked_read_ms: the force ramped out
   std::atomic<bool> lost{false}, device_lost{false}, finished{false};
   SampleRing jitter, rtt, age_us;
   Histogram rtt_all{10.0};  // 10 us bins: round trips up to 200 ms

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
                  "when not allowed (0: do not ask)")
       ->check(CLI::Range(0, 99));
   app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
+  app.add_flag("--accept-replay", o.accept_replay, igms::bus::kAcceptReplayHelp);
   app.add_option("--scene-dir", o.commands.scene_dirs, "LOAD_SCENE only from these folders (default: --scene's folder)")
       ->check(CLI::ExistingDirectory);
   app.add_option("--output-dir", o.commands.output_dir, "SAVE_TRAJECTORY only into this folder (default: .)")

@@ -104,11 +104,11 @@ void printWarnings(const Simulation& sim) {
 // Applies the commands that arrived, between steps.
 void applyCommands(BusReceiver& receiver, SceneParts& p, LoopControl& control, const ServerOptions& o,
                    int64_t& token) {
-  std::deque<command_t> todo;
+  std::deque<ReceivedCommand> todo;
   if (!receiver.takeCommands(&todo)) return;
-  for (const command_t& received : todo) {
+  for (const ReceivedCommand& received : todo) {
     command_t c;
-    const CommandResult allowed = authorizeCommand(received, token, o.commands, &c);
+    const CommandResult allowed = authorizeCommand(received.command, received.signed_us, token, o.commands, &c);
     if (!allowed.accepted) {
       ++p.loop.commands_rejected;
       p.loop.setMessage("command rejected: " + allowed.message);
@@ -238,6 +238,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
   }
   ServerOptions o = options;
   o.commands.signed_bus = key.has_value();
+  o.commands.started_us = bus::wallClockMicros();
   lcm::LCM bus(o.lcm_url.empty() ? channels::kDefaultUrl : o.lcm_url);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-server: cannot open LCM at %s\n", o.lcm_url.c_str());
@@ -246,6 +247,7 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
   // One publisher: the publishing thread's (the loop's in lockstep, and after the scene ends).
   bus::SignedPublisher out(bus, key);
   bus::MessageVerifier verifier(key, "igms-server");
+  if (o.accept_replay) verifier.acceptReplays();
   BusReceiver receiver(bus, verifier);
   BusThread bus_thread(bus, o.clock == ServerOptions::Clock::Realtime);
   int64_t token = o.session_token ? o.session_token : randomToken();

@@ -34,6 +34,7 @@ struct ServerOptions {
   int rt_priority = 0;          // > 0: the loop asks for SCHED_FIFO at this priority and locks memory
   CommandPolicy commands;       // scene folders, output folder
   std::string key_file;         // the bus key (bus/bus_key.h): sign and check every message; "": unauthenticated
+  bool accept_replay = false;   // take replayed traffic (igms-replay play) too
   // Fault injection on the published states (tests of the client's fallback):
   double fault_drop = 0.0;       // fraction of states not published
   double fault_burst_ms = 0.0;   // every second, no states for this long

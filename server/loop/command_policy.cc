@@ -37,10 +37,14 @@ std::string insideFolder(const std::string& path, const std::string& base, const
   return full.string();
 }
 
-CommandResult authorizeCommand(const command_t& c, int64_t session_token, const CommandPolicy& policy,
-                               command_t* resolved) {
-  if (!policy.signed_bus && !sameSecret(c.auth, std::to_string(session_token)))
-    return refused("not authorized: a command must carry the session token (or the bus be signed: --key-file)");
+CommandResult authorizeCommand(const command_t& c, int64_t signed_us, int64_t session_token,
+                               const CommandPolicy& policy, command_t* resolved) {
+  if (policy.signed_bus && signed_us < policy.started_us)
+    return refused("signed before this server started: a command of an earlier session, replayed");
+  if (!sameSecret(c.auth, std::to_string(session_token)))
+    return refused(policy.signed_bus ? "not this session's: a command must carry the current session token (from "
+                                       "the server's status); a command of an earlier session is refused"
+                                     : "not authorized: a command must carry the session token");
   command_t out = c;
   if (c.kind == command_t::LOAD_SCENE) {
     // A relative name: from the server's working directory, or from a scene folder.

@@ -67,10 +67,10 @@ void BusReceiver::onCommand(const lcm::ReceiveBuffer* rbuf, const std::string& c
     ++counters_.commands_refused;
     return;
   }
-  commands_.push_back(std::move(cmd));
+  commands_.push_back({std::move(cmd), checked.signed_us});
 }
 
-bool BusReceiver::takeCommands(std::deque<command_t>* out) {
+bool BusReceiver::takeCommands(std::deque<ReceivedCommand>* out) {
   if (!mutex_.try_lock()) return false;
   out->swap(commands_);
   mutex_.unlock();

@@ -22,6 +22,12 @@
 
 namespace igms {
 
+// A command as it arrived: with its signature's time (the sender's wall clock, us; 0 unsigned).
+struct ReceivedCommand {
+  command_t command;
+  int64_t signed_us = 0;
+};
+
 // What the status reports about the bus.
 struct BusCounters {
   int64_t inputs_received = 0, inputs_rejected = 0, inputs_accepted = 0, inputs_missed = 0;
@@ -46,7 +52,7 @@ class BusReceiver {
   std::vector<ClientRecord> clients();
   // Moves the queued commands into *out without waiting; false when the
   // receiver holds its lock right now (the loop tries again next step).
-  bool takeCommands(std::deque<command_t>* out);
+  bool takeCommands(std::deque<ReceivedCommand>* out);
   BusCounters counters();
   const bus::MessageVerifier& verifier() const { return verifier_; }
 
@@ -57,7 +63,7 @@ class BusReceiver {
   bus::MessageVerifier& verifier_;  // used on the receiving thread only
   std::mutex mutex_;  // guards gate_, commands_, counters_ (never taken by the step itself)
   std::unique_ptr<InputGate> gate_;
-  std::deque<command_t> commands_;
+  std::deque<ReceivedCommand> commands_;
   BusCounters counters_;
   HandSlots hands_;
   std::array<int32_t, kMaxHands> slot_client_;  // -1: free (guarded by mutex_)

@@ -204,16 +204,21 @@ def lift_and_drop(checks, driver):
                  "%d malformed counted, still pulling, the ball moved %.4f m" % (
                      after["rejected_malformed"] - before["rejected_malformed"], distance(held, lifted)))
     ActionChains(driver).release().key_up(Keys.SHIFT).perform()
-    time.sleep(3.0)
-    z = []
-    for _ in range(10):
-        z.append(position(page, ball)[2])
-        time.sleep(0.05)
+    # Let go with some sideways speed, it may roll to the table's edge and drop to the ground (one
+    # run in CI was still falling 3 s after the release): watched until still, for at most 10 s.
+    time.sleep(2.0)
+    for _ in range(16):
+        z = []
+        for _ in range(10):
+            z.append(position(page, ball)[2])
+            time.sleep(0.05)
+        if max(z) - min(z) < 1e-3:
+            break
     # At rest on the table (its top at 0.12 m) or on the ground (-0.4 m), if it rolled off.
     resting = any(abs(max(z) - top - 0.04) < 2e-3 for top in (0.12, -0.4))
     checks.check(max(z) < lifted[2] - 0.02 and max(z) - min(z) < 1e-3 and resting,
                  "let go, the ball falls and settles on a surface",
-                 "z %.3f m when let go, %.4f .. %.4f m 3 s later" % (lifted[2], min(z), max(z)))
+                 "z %.3f m when let go, %.4f .. %.4f m once still" % (lifted[2], min(z), max(z)))
     step = page.frame()["client"]["max_force_step"]
     checks.check(step <= 1.0 + 1e-6, "the rendered force stepped by at most 1 N a cycle", "%.3f N" % step)
     for p in (client, server):

@@ -214,8 +214,11 @@ def body(checks, open_browser):
     page.js("""
         window.igms.send('{not json');
         window.igms.send(JSON.stringify({type: 'device', seq: 1e12, tip: [1e9, 0, 0]}));
-        const ws = new WebSocket('ws://' + location.host + '/ws?token=wrong');
-        ws.onopen = () => ws.send(JSON.stringify({type: 'command', kind: 'reset'}));""")
+        const ws = new WebSocket('ws://' + location.host + '/ws');
+        ws.onopen = () => {
+          ws.send(JSON.stringify({type: 'auth', token: 'wrong'}));
+          ws.send(JSON.stringify({type: 'command', kind: 'reset'}));
+        };""")
     after = bs.wait_for("the rejections counted", lambda: (lambda s: s if s["rejected_token"] > before["rejected_token"]
                                                           and s["rejected_malformed"] >= before["rejected_malformed"] + 2
                                                           else None)(bs.status(device_url)), timeout=5)
@@ -236,8 +239,12 @@ def body(checks, open_browser):
     device_host = device_url.split("//")[1].split("/")[0]
     viewer.js("""
         window.crossSite = 'pending';
-        const ws = new WebSocket('ws://%s/ws?token=%s');
-        ws.onopen = () => { window.crossSite = 'open'; ws.send(JSON.stringify({type: 'command', kind: 'pause'})); };
+        const ws = new WebSocket('ws://%s/ws');
+        ws.onopen = () => {
+          window.crossSite = 'open';
+          ws.send(JSON.stringify({type: 'auth', token: '%s'}));
+          ws.send(JSON.stringify({type: 'command', kind: 'pause'}));
+        };
         ws.onerror = () => { window.crossSite = 'refused'; };""" % (device_host, device_url.split("#token=")[1]))
     crossed = bs.wait_for("the cross-site socket's end",
                           lambda: (lambda r: r if r != "pending" else None)(viewer.js("return window.crossSite")), timeout=5)

@@ -165,9 +165,18 @@ timeout 30 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:
   --lcm-url "$url" --duration 3 --connect-timeout 10 2> "$work/slow/client.log" || code=$?
 timeout 30 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:$build/tests/libbroken_device_good.so:nan-every=10" \
   --lcm-url "$url" --duration 1 --connect-timeout 10 2> "$work/slow/nan.log" || code=$((code + $?))
+# A read that blocks 30 ms (past the 5 ms bound) every 700 cycles: the device is held as lost, the force ramps out.
+timeout 30 "$build/haptic_client/igms-haptic" --scene "$scene" --device "plugin:$build/tests/libbroken_device_good.so:block-ms=30,every=700" \
+  --lcm-url "$url" --duration 3 --connect-timeout 10 2> "$work/slow/blocked.log" || code=$((code + $?))
 sleep 0.3
 igms_stop_all
-check "$([[ $code == 0 ]] && echo 1)" "the client ran both faulty plugins to the end" "exit $code"
+check "$([[ $code == 0 ]] && echo 1)" "the client ran the faulty plugins to the end" "exit $code"
+blocked=$(sed -n 's/.* \([0-9]*\) reads blocked over 5 ms.*/\1/p' "$work/slow/blocked.log")
+ramped=$(grep -c "device lost (its readings stopped, or a read blocked): forces ramping down" "$work/slow/blocked.log" || true)
+back=$(grep -c "device back: forces ramping up" "$work/slow/blocked.log" || true)
+check "$([[ ${blocked:-0} -ge 3 && ${blocked:-0} -le 5 && $ramped -ge 3 && $back -ge 3 ]] && echo 1)" \
+  "a read blocked past 5 ms ramps the force out as a lost device does, and back" \
+  "blocked ${blocked:-none}, ramped down $ramped, back $back"
 line=$(grep "device read" "$work/slow/client.log" || true)
 overruns=$(sed -n 's/.* \([0-9]*\) overruns.*/\1/p' <<< "$line")
 readmax=$(sed -n 's/.*device read p50 [^,]*, p99 [^,]*, max \([0-9.]*\) us.*/\1/p' <<< "$line")

@@ -1,7 +1,8 @@
 """Bad readings for a bus device (lcm_device_test): what a broken or hostile
 sender puts on IGMS_DEVICE_READING while a good device runs. With the bus key
 it signs NaN, out-of-range and out-of-order readings and undecodable bytes
-(the client must refuse each by its reason); without it, unsigned readings and
+(the client, pinned to the good device's sender, refuses them as
+other_sender); without it, unsigned readings and
 readings signed under another key (refused by the message check).
     bad_device_readings.py URL KEY_FILE SECONDS STATS_JSON"""
 import json

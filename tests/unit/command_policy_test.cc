@@ -38,18 +38,35 @@ command_t command(int8_t kind, const std::string& auth, const std::string& text 
   return c;
 }
 
-TEST(CommandPolicy, TheSessionTokenOrTheSignedBusAuthorizes) {
+TEST(CommandPolicy, TheSessionTokenAuthorizesOnAnUnauthenticatedBus) {
   CommandPolicy p;
   command_t out;
-  EXPECT_TRUE(authorizeCommand(command(command_t::PAUSE, "42"), 42, p, &out).accepted);
-  EXPECT_FALSE(authorizeCommand(command(command_t::PAUSE, ""), 42, p, &out).accepted);
-  EXPECT_FALSE(authorizeCommand(command(command_t::PAUSE, "420"), 42, p, &out).accepted);
-  const CommandResult r = authorizeCommand(command(command_t::PAUSE, "4"), 42, p, &out);
+  EXPECT_TRUE(authorizeCommand(command(command_t::PAUSE, "42"), 0, 42, p, &out).accepted);
+  EXPECT_FALSE(authorizeCommand(command(command_t::PAUSE, ""), 0, 42, p, &out).accepted);
+  EXPECT_FALSE(authorizeCommand(command(command_t::PAUSE, "420"), 0, 42, p, &out).accepted);
+  const CommandResult r = authorizeCommand(command(command_t::PAUSE, "4"), 0, 42, p, &out);
   EXPECT_FALSE(r.accepted);
   EXPECT_NE(r.message.find("session token"), std::string::npos);
-  // On a signed bus the signature checked on arrival is the proof: `auth` carries no secret.
+}
+
+// Issue 44, item 2: a signed command carried no token, so one captured from an earlier run of the
+// server (its signature fresh for a minute) was taken by the restarted server. It is now bound to the
+// session twice: by the token, and by its signature's time against the server's start.
+TEST(CommandPolicy, OnASignedBusACommandIsBoundToThisRunOfTheServer) {
+  CommandPolicy p;
   p.signed_bus = true;
-  EXPECT_TRUE(authorizeCommand(command(command_t::SHUTDOWN, ""), 42, p, &out).accepted);
+  p.started_us = 1'000'000'000;
+  command_t out;
+  EXPECT_TRUE(authorizeCommand(command(command_t::SHUTDOWN, "42"), p.started_us + 5, 42, p, &out).accepted);
+  // Captured from the run before: its token, and signed before this run started.
+  const CommandResult old = authorizeCommand(command(command_t::SHUTDOWN, "41"), p.started_us - 20'000'000, 42, p, &out);
+  EXPECT_FALSE(old.accepted);
+  EXPECT_NE(old.message.find("before this server started"), std::string::npos) << old.message;
+  // Either one alone is refused too.
+  EXPECT_FALSE(authorizeCommand(command(command_t::SHUTDOWN, "42"), p.started_us - 1, 42, p, &out).accepted);
+  const CommandResult token = authorizeCommand(command(command_t::SHUTDOWN, ""), p.started_us + 5, 42, p, &out);
+  EXPECT_FALSE(token.accepted);
+  EXPECT_NE(token.message.find("session token"), std::string::npos) << token.message;
 }
 
 TEST(CommandPolicy, FilesStayInTheirFolders) {
@@ -59,17 +76,17 @@ TEST(CommandPolicy, FilesStayInTheirFolders) {
   p.output_dir = f.out.string();
   command_t out;
   // Scenes: by name in the folder, or an absolute path inside it.
-  ASSERT_TRUE(authorizeCommand(command(command_t::LOAD_SCENE, "1", "a.yaml"), 1, p, &out).accepted);
+  ASSERT_TRUE(authorizeCommand(command(command_t::LOAD_SCENE, "1", "a.yaml"), 0, 1, p, &out).accepted);
   EXPECT_EQ(out.text, (f.scenes / "a.yaml").string());
-  EXPECT_TRUE(authorizeCommand(command(command_t::LOAD_SCENE, "1", (f.scenes / "a.yaml").string()), 1, p, &out).accepted);
+  EXPECT_TRUE(authorizeCommand(command(command_t::LOAD_SCENE, "1", (f.scenes / "a.yaml").string()), 0, 1, p, &out).accepted);
   for (const std::string& bad : std::vector<std::string>{"../secret.yaml", (f.root / "secret.yaml").string(), "/etc/passwd", "missing.yaml", ""})
-    EXPECT_FALSE(authorizeCommand(command(command_t::LOAD_SCENE, "1", bad), 1, p, &out).accepted) << bad;
+    EXPECT_FALSE(authorizeCommand(command(command_t::LOAD_SCENE, "1", bad), 0, 1, p, &out).accepted) << bad;
   // Output: relative names land inside; .., absolute paths outside and links out are refused.
-  ASSERT_TRUE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", "edited.yaml"), 1, p, &out).accepted);
+  ASSERT_TRUE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", "edited.yaml"), 0, 1, p, &out).accepted);
   EXPECT_EQ(out.text, (f.out / "edited.yaml").string());
-  EXPECT_TRUE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", "sub/../e.yaml"), 1, p, &out).accepted);
+  EXPECT_TRUE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", "sub/../e.yaml"), 0, 1, p, &out).accepted);
   for (const std::string& bad : std::vector<std::string>{"../x.yaml", "/tmp/x.yaml", "up/secret.yaml", "up/out/../x.yaml"})
-    EXPECT_FALSE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", bad), 1, p, &out).accepted) << bad;
+    EXPECT_FALSE(authorizeCommand(command(command_t::SAVE_TRAJECTORY, "1", bad), 0, 1, p, &out).accepted) << bad;
   EXPECT_EQ(insideFolder("x", f.out.string(), f.out.string()), (f.out / "x").string());
   EXPECT_EQ(insideFolder(f.out.string(), "/", f.out.string()), f.out.string());
   EXPECT_EQ(insideFolder((f.root / "outside").string(), "/", f.out.string()), "");

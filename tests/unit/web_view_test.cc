@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <websocketpp/client.hpp>
@@ -318,32 +320,42 @@ TEST(BusView, ContactsInTheFrameWhileFresh) {
 struct WsResult {
   bool opened = false;
   std::string first_message;
+  std::vector<std::string> messages;  // all it was sent within the session
+  bool said(const std::string& m) const { return std::find(messages.begin(), messages.end(), m) != messages.end(); }
 };
 
-WsResult wsSession(int port, const std::string& query, const std::string& text, const std::string& origin = "") {
+// Opens /ws with `origin` (none when empty), sends `texts` in order, and collects what comes back for
+// up to 300 ms (or until `until` arrives).
+WsResult wsSession(int port, const std::vector<std::string>& texts, const std::string& origin,
+                   const std::string& until = "") {
   using Client = websocketpp::client<websocketpp::config::asio_client>;
   Client c;
   c.clear_access_channels(websocketpp::log::alevel::all);
   c.clear_error_channels(websocketpp::log::elevel::all);
   c.init_asio();
   WsResult r;
+  std::mutex mutex;
   c.set_open_handler([&](websocketpp::connection_hdl h) {
     r.opened = true;
     websocketpp::lib::error_code ec;
-    c.send(h, text, websocketpp::frame::opcode::text, ec);
+    for (const std::string& text : texts) c.send(h, text, websocketpp::frame::opcode::text, ec);
   });
-  c.set_message_handler([&](websocketpp::connection_hdl h, Client::message_ptr m) {
+  c.set_message_handler([&](websocketpp::connection_hdl, Client::message_ptr m) {
+    std::lock_guard<std::mutex> lock(mutex);
     if (r.first_message.empty()) r.first_message = m->get_payload();
-    websocketpp::lib::error_code ec;
-    c.close(h, websocketpp::close::status::normal, "", ec);
+    r.messages.push_back(m->get_payload());
   });
   websocketpp::lib::error_code ec;
-  Client::connection_ptr con = c.get_connection("ws://127.0.0.1:" + std::to_string(port) + "/ws" + query, ec);
+  Client::connection_ptr con = c.get_connection("ws://127.0.0.1:" + std::to_string(port) + "/ws", ec);
   if (ec) return r;
   if (!origin.empty()) con->replace_header("Origin", origin);
   c.connect(con);
   std::thread t([&] { c.run(); });
-  for (int i = 0; i < 200 && r.first_message.empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 30; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!until.empty() && r.said(until)) break;
+  }
   c.stop();
   t.join();
   return r;
@@ -351,7 +363,9 @@ WsResult wsSession(int port, const std::string& query, const std::string& text, 
 
 TEST(WebServer, AWebSocketMustComeFromThePagesOwnOrigin) {
   using igms::web::sameOrigin;
-  EXPECT_TRUE(sameOrigin("", "127.0.0.1:8081", "127.0.0.1", 8081));  // not a browser
+  // Not a browser (no Origin): only when allowed (issue 44: an empty Origin had been taken).
+  EXPECT_FALSE(sameOrigin("", "127.0.0.1:8081", "127.0.0.1", 8081));
+  EXPECT_TRUE(sameOrigin("", "127.0.0.1:8081", "127.0.0.1", 8081, /*allow_no_origin=*/true));
   EXPECT_TRUE(sameOrigin("http://127.0.0.1:8081", "127.0.0.1:8081", "127.0.0.1", 8081));
   EXPECT_TRUE(sameOrigin("http://localhost:8081", "localhost:8081", "127.0.0.1", 8081));
   EXPECT_FALSE(sameOrigin("http://evil.example", "127.0.0.1:8081", "127.0.0.1", 8081));
@@ -387,16 +401,25 @@ TEST(WebServer, RoutesTokenAndCounters) {
   o.three_dir = (d / "three").string();
   o.token = "abc123";
   igms::web::WebServer server(o);
-  std::atomic<int> opened_with_token{0}, opened_without{0}, messages{0};
-  server.onOpen([&](int client, bool authorized) {
-    (authorized ? opened_with_token : opened_without)++;
-    server.send(client, authorized ? "device" : "viewer");
+  std::atomic<int> opened{0}, authorized{0}, messages{0}, authorized_messages{0};
+  server.onOpen([&](int client, bool is_authorized) {
+    EXPECT_FALSE(is_authorized) << "no page is the device before its first message";
+    ++opened;
+    server.send(client, "viewer");
   });
-  server.onMessage([&](int, bool, const std::string&) { ++messages; });
+  server.onAuthorized([&](int client) {
+    ++authorized;
+    server.send(client, "device");
+  });
+  server.onMessage([&](int, bool is_authorized, const std::string&) {
+    ++messages;
+    if (is_authorized) ++authorized_messages;
+  });
   server.start();
   const int port = server.port();
   ASSERT_GT(port, 0);
   EXPECT_EQ(server.url(true), "http://127.0.0.1:" + std::to_string(port) + "/#token=abc123");
+  const std::string own = "http://127.0.0.1:" + std::to_string(port);
 
   std::string r = httpGet(port, "/");
   EXPECT_EQ(httpStatus(r), 200);
@@ -418,21 +441,29 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(httpStatus(r), 200);
   EXPECT_NE(r.find("solid x"), std::string::npos);
 
-  // The token decides the role; every message is counted.
-  EXPECT_EQ(wsSession(port, "?token=abc123", "{}").first_message, "device");
-  EXPECT_EQ(wsSession(port, "?token=wrong", "{}").first_message, "viewer");
-  EXPECT_EQ(wsSession(port, "", "{}").first_message, "viewer");
-  EXPECT_EQ(opened_with_token.load(), 1);
-  EXPECT_EQ(opened_without.load(), 2);
-  for (int i = 0; i < 100 && messages.load() < 3; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(messages.load(), 3);
-  // Another site's page (its Origin) gets no WebSocket, token or not; the page's own origin does.
-  const std::string own = "http://127.0.0.1:" + std::to_string(port);
-  EXPECT_FALSE(wsSession(port, "?token=abc123", "{}", "http://evil.example").opened);
-  EXPECT_FALSE(wsSession(port, "?token=abc123", "{}", "http://127.0.0.1:1").opened);
-  EXPECT_EQ(wsSession(port, "?token=abc123", "{}", own).first_message, "device");
+  // The token, as the socket's first message, makes the page the device; every other message is counted.
+  const std::string auth = R"({"type":"auth","token":"abc123"})", wrong = R"({"type":"auth","token":"wrong"})";
+  const WsResult device = wsSession(port, {auth, "{}"}, own, "device");
+  EXPECT_EQ(device.first_message, "viewer");
+  EXPECT_TRUE(device.said("device"));
+  EXPECT_FALSE(wsSession(port, {wrong, "{}"}, own).said("device"));
+  EXPECT_FALSE(wsSession(port, {"{}"}, own).said("device"));
+  // One try per socket, and only first: a wrong token then the right one, or the right one late, is no device.
+  EXPECT_FALSE(wsSession(port, {wrong, auth}, own).said("device"));
+  EXPECT_FALSE(wsSession(port, {"{}", auth}, own).said("device"));
+  // The token in the URL is no longer read (issue 44: it leaked into logs and process lists).
+  EXPECT_EQ(authorized.load(), 1);
+  EXPECT_EQ(opened.load(), 5);
+  for (int i = 0; i < 100 && messages.load() < 4; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(messages.load(), 4);
+  EXPECT_EQ(authorized_messages.load(), 1);
+  // Another site's page (its Origin) gets no WebSocket, token or not; nor does a client without an Origin.
+  EXPECT_FALSE(wsSession(port, {auth}, "http://evil.example").opened);
+  EXPECT_FALSE(wsSession(port, {auth}, "http://127.0.0.1:1").opened);
+  EXPECT_FALSE(wsSession(port, {auth}, "").opened);
+  EXPECT_TRUE(wsSession(port, {auth}, own, "device").said("device"));
   // Over the size limit: dropped (the connection closes), counted, the server goes on.
-  wsSession(port, "", std::string(64 * 1024, 'x'));
+  wsSession(port, {std::string(64 * 1024, 'x')}, own);
   // DNS rebinding: another site's name for 127.0.0.1 in Host reads nothing (a page of that site would
   // send it); this server's own names, with or without its port, do.
   const std::string p = ":" + std::to_string(port);
@@ -446,10 +477,46 @@ TEST(WebServer, RoutesTokenAndCounters) {
   EXPECT_EQ(httpStatus(httpGet(port, "/status.json", "")), 400) << "no Host: the HTTP layer refuses it first";
   EXPECT_EQ(s["rejected_host"].get<int>(), 8);
   EXPECT_GE(s["http_not_found"].get<int>(), 5);
-  EXPECT_EQ(s["messages"].get<int>(), 4);
-  EXPECT_EQ(s["rejected_origin"].get<int>(), 2);
+  EXPECT_EQ(s["messages"].get<int>(), 10);  // the oversized one closes its socket before it is a message
+  EXPECT_EQ(s["rejected_origin"].get<int>(), 3);
+  EXPECT_EQ(s["rejected_token"].get<int>(), 4);  // wrong, wrong then right, right but late (x2 counted: wrong, late)
   EXPECT_EQ(s["rejected_malformed"].get<int>(), 1);
   EXPECT_EQ(httpStatus(httpGet(port, "/")), 200);
+}
+
+TEST(WebServer, AClientWithoutAnOriginOnlyWhenAllowed) {
+  const fs::path d = tempDir("no_origin");
+  write(d / "page/index.html", "<html></html>");
+  igms::web::WebServerOptions o;
+  o.page_dir = (d / "page").string();
+  o.three_dir = (d / "three").string();
+  o.allow_no_origin = true;  // --allow-no-origin: a script of one's own
+  igms::web::WebServer server(o);
+  server.onOpen([&](int client, bool) { server.send(client, "viewer"); });
+  server.start();
+  EXPECT_TRUE(wsSession(server.port(), {"{}"}, "").opened);
+  EXPECT_EQ(server.counters().rejected_origin.load(), 0);
+}
+
+TEST(WebServer, APageThatMayActIsServedOnThisMachineOnly) {
+  igms::web::WebServerOptions o;
+  o.token = "abc123";
+  o.bind = "0.0.0.0";
+  igms::web::WebServer server(o);
+  try {
+    server.start();
+    FAIL() << "a page with a token was served on every address, without TLS";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("SSH tunnel"), std::string::npos) << e.what();
+  }
+  igms::web::WebServerOptions lan;  // watch-only (no token): the LAN may watch
+  lan.bind = "10.255.255.1";  // not this machine's: refused by the system, not by the token rule
+  igms::web::WebServer watch(lan);
+  try {
+    watch.start();
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).find("SSH tunnel"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -3,9 +3,10 @@
 //   igms-command [--lcm-url URL] [--key-file FILE] [--timeout S] KIND [ARGS...]
 //     KIND: pause | resume | step | reset | shutdown | load SCENE | save FILE | gains K_P K B [K_ROT B_ROT]
 //
-// On a signed bus (--key-file, IGMS_KEY_FILE) the command is signed: the
-// signature is the authority and no secret travels in it. Without a key it
-// waits for the server's status and carries the session token it names. It
+// It waits for the server's status and carries the session token it names,
+// which binds the command to that session. On a signed bus (--key-file,
+// IGMS_KEY_FILE) the command is also signed: the signature is the authority,
+// and a signed command replayed into a later run of the server is refused. It
 // then waits for the server's next status and reports whether the command
 // was taken (the server's command counters), so a refused one is an exit
 // code, not a silence.
@@ -128,7 +129,7 @@ int main(int argc, char** argv) {
     return 3;
   }
   const int64_t received = watch.status.commands_received, rejected = watch.status.commands_rejected;
-  c.auth = key ? "" : std::to_string(watch.status.session_token);  // no secret on a signed bus
+  c.auth = std::to_string(watch.status.session_token);  // binds the command to this session (signed or not)
   igms::bus::SignedPublisher out(bus, key, 4096);
   out.publish(igms::channels::kCommand, c);
   // Taken: the server counted one more command and no more rejections. A shutdown ends the statuses.

@@ -36,6 +36,7 @@
 
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
+#include "bus/printable_name.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -96,8 +97,13 @@ struct Queued {
 
 class Logger {
  public:
+  // Channels counted one by one in the report; beyond, in one row (a flood of names never grows the table).
+  static constexpr size_t kMaxCountedChannels = 256;
+
   Logger(const Options& o, std::optional<igms::bus::BusKey> key)
-      : o_(o), filter_(o.channel_regex), naming_(o), verifier_(std::move(key), "igms-logger") {}
+      : o_(o), filter_(o.channel_regex), naming_(o), verifier_(std::move(key), "igms-logger") {
+    verifier_.acceptReplays();  // a recorder: a replay on the bus is recorded as such, not refused
+  }
 
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& received_on) {
     // The bus thread: copy and queue, never the disk.
@@ -107,9 +113,9 @@ class Logger {
     const std::string channel =
         checked.accepted ? received_on : std::string("REFUSED:") + igms::bus::refusalName(checked.why) + ":" + received_on;
     std::lock_guard<std::mutex> lock(mutex_);
-    ++received_[channel];
+    ++received_[countedAs(received_, channel)];
     if (queue_.size() >= o_.queue) {
-      ++dropped_[channel];
+      ++dropped_[countedAs(dropped_, channel)];
       return;
     }
     const auto* p = static_cast<const uint8_t*>(rbuf->data);
@@ -209,11 +215,16 @@ class Logger {
                  static_cast<long long>(received), static_cast<long long>(written_), static_cast<long long>(dropped),
                  files_.size());
     for (const auto& [c, n] : dropped_)
-      std::fprintf(out, "igms-logger:   dropped %lld on %s\n", static_cast<long long>(n), c.c_str());
+      std::fprintf(out, "igms-logger:   dropped %lld on %s\n", static_cast<long long>(n),
+                   igms::bus::printableName(c).c_str());  // a name off the bus: escaped
     std::fprintf(out, "igms-logger: bus: %s\n", verifier_.summary().c_str());
   }
 
  private:
+  static std::string countedAs(const std::map<std::string, int64_t>& table, const std::string& channel) {
+    return table.count(channel) || table.size() < kMaxCountedChannels ? channel : std::string("(other channels)");
+  }
+
   void open() {
     if (writer_) writer_->flush();
     const std::string path = naming_.next();

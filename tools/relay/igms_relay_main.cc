@@ -59,6 +59,7 @@ class Path {
   Path(const char* name, lcm::LCM& from, lcm::LCM& to, const std::string& channels, const igms::PathFaults& f,
        uint32_t seed, const std::optional<igms::bus::BusKey>& key)
       : name_(name), to_(to), line_(f, seed), verifier_(key, "igms-relay") {
+    verifier_.acceptReplays();  // a link: replays pass as they are, the far end decides
     from.subscribe(channels, &Path::onMessage, this)->setQueueCapacity(100000);
   }
   void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {

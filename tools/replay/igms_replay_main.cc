@@ -2,7 +2,10 @@
 //
 //   igms-replay info   LOG
 //   igms-replay play   LOG [--speed X | --fast] [--channel REGEX] [--remap FROM=TO]... [--start S] [--end S]
-//                          [--loop] [--step] [--lcm-url URL]
+//                          [--loop] [--step] [--lcm-url URL] [--key-file FILE] [--with-commands]
+//     With a key, what it publishes is signed as a replay (message_signature.h): programs that act on the
+//     bus (server, client, device) refuse it unless started with --accept-replay. Commands are left out
+//     unless --with-commands, and a recorded message whose signature does not hold under the key is left out.
 //   igms-replay resim  LOG [--tolerance T] [--require-identical] [--base-dir DIR] [--json]
 //   igms-replay export LOG DIR            (CSV files and the scene, for plots; obstacles.csv: the distance to
 //                                         each obstacle; environment.csv for an environment)
@@ -29,6 +32,7 @@
 
 #include "bus/bus_key.h"
 #include "bus/message_signature.h"
+#include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
@@ -38,6 +42,7 @@
 #include "core/model_io/zlib_text.h"
 #include "core/realtime/stop_signal.h"
 #include "igms/client_status_t.hpp"
+#include "igms/command_t.hpp"
 #include "igms/haptic_input_t.hpp"
 #include "igms/robot_state_t.hpp"
 #include "igms/server_status_t.hpp"
@@ -87,8 +92,18 @@ struct PlayOptions {
   bool fast = false, loop = false, step = false;
   std::string regex = ".*", url;
   std::vector<std::string> remaps;  // FROM=TO
-  std::string key_file;              // re-sign every event as this process (a keyed bus)
+  std::string key_file;              // re-sign every event as a replay (a keyed bus)
+  bool with_commands = false;        // publish the log's commands too
 };
+
+// A command: on the command channel, or anything that decodes as one (a crafted log may rename it).
+bool isCommand(const std::string& channel, const std::vector<uint8_t>& data) {
+  if (channel == igms::channels::kCommand) return true;
+  int64_t hash = 0;
+  if (data.size() >= 8)
+    for (size_t k = 0; k < 8; ++k) hash = static_cast<int64_t>(static_cast<uint64_t>(hash) << 8 | data[k]);
+  return hash == igms::command_t::getHash();
+}
 
 int play(const std::string& path, const PlayOptions& o) {
   std::map<std::string, std::string> remap;
@@ -107,10 +122,11 @@ int play(const std::string& path, const PlayOptions& o) {
     std::fprintf(stderr, "igms-replay: cannot open LCM at %s\n", o.url.c_str());
     return 2;
   }
-  // A replay is a sender of its own: the recorded signature (if any) comes off, and with a key a new one goes on,
-  // so a receiver that heard the session live takes the replay too.
-  igms::bus::SignedPublisher out(bus, key);
-  int64_t refused_skipped = 0;
+  // A replay is a sender of its own kind: the recorded signature comes off once it has been checked, and with a
+  // key a replay's goes on, so a program that acts on the bus takes it only when told to (--accept-replay).
+  igms::bus::SignedPublisher out(bus, key, 64 * 1024, igms::bus::SenderKind::kReplay);
+  igms::bus::MessageVerifier recorded(key, "igms-replay");
+  int64_t refused_skipped = 0, commands_skipped = 0, forged_skipped = 0, unsigned_published = 0;
   const std::regex filter(o.regex);
   const double speed = o.speed, start = o.start, end = o.end;
   const bool fast = o.fast, loop = o.loop, step = o.step;
@@ -127,6 +143,18 @@ int play(const std::string& path, const PlayOptions& o) {
         ++refused_skipped;
         continue;
       }
+      auto it = remap.find(e.channel);
+      const std::string& to = it == remap.end() ? e.channel : it->second;
+      if (!o.with_commands && (isCommand(e.channel, e.data) || isCommand(to, e.data))) {
+        ++commands_skipped;
+        continue;
+      }
+      igms::bus::Trailer trailer;
+      const bool had_trailer = igms::bus::findTrailer(e.data.data(), e.data.size(), &trailer);
+      if (key && had_trailer && !recorded.tagHolds(e.channel, e.data.data(), e.data.size())) {
+        ++forged_skipped;  // signed under another key, or altered since: not ours to sign
+        continue;
+      }
       if (step) {
         std::fprintf(stderr, "igms-replay: t=%.6f %s (%zu bytes) [enter]", t, e.channel.c_str(), e.data.size());
         std::string line;
@@ -135,16 +163,25 @@ int play(const std::string& path, const PlayOptions& o) {
         std::this_thread::sleep_until(wall0 + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                   std::chrono::duration<double>((t - first) / speed)));
       }
-      auto it = remap.find(e.channel);
-      igms::bus::Trailer trailer;
-      const size_t size = igms::bus::findTrailer(e.data.data(), e.data.size(), &trailer) ? trailer.payload_bytes
-                                                                                        : e.data.size();
-      out.publish(it == remap.end() ? e.channel : it->second, e.data.data(), size);
+      const size_t size = had_trailer ? trailer.payload_bytes : e.data.size();
+      out.publish(to, e.data.data(), size);
+      if (key && !had_trailer) ++unsigned_published;
       ++published;
     }
   } while (loop && published > 0 && !igms::stopRequested());
   std::fprintf(stderr, "igms-replay: published %lld events%s\n", static_cast<long long>(published),
-               key ? ", signed with the bus key" : "");
+               key ? ", signed as a replay with the bus key (taken by servers, clients and devices only with "
+                     "--accept-replay)"
+                   : "");
+  if (commands_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld commands (--with-commands to publish them)\n",
+                 static_cast<long long>(commands_skipped));
+  if (forged_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld events whose recorded signature does not hold under the key\n",
+                 static_cast<long long>(forged_skipped));
+  if (unsigned_published)
+    std::fprintf(stderr, "igms-replay: %lld events were unsigned when recorded (an unauthenticated session)\n",
+                 static_cast<long long>(unsigned_published));
   if (refused_skipped)
     std::fprintf(stderr, "igms-replay: left out %lld events the logger had refused (REFUSED:...)\n",
                  static_cast<long long>(refused_skipped));
@@ -436,6 +473,8 @@ int main(int argc, char** argv) {
   play_cmd->add_option("--end", play_options.end, "until this time, s after the first event")
       ->check(igms::cli::Seconds);
   play_cmd->add_flag("--loop", play_options.loop, "start again at the end");
+  play_cmd->add_flag("--with-commands", play_options.with_commands,
+                     "publish the log's commands too (left out by default: a replay must not stop or reload a server)");
   play_cmd->add_flag("--step", play_options.step, "one event per Enter");
   play_cmd->add_option("--lcm-url", play_options.url, "LCM URL")->check(igms::cli::LcmUrl);
   ResimOptions resim_options;

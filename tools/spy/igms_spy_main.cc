@@ -19,6 +19,7 @@
 
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
+#include "bus/printable_name.h"
 #include "igms/bus_status_t.hpp"
 #include "igms/device_force_t.hpp"
 #include "igms/device_reading_t.hpp"
@@ -154,7 +155,7 @@ bool summarize<igms::bus_status_t>(const uint8_t* d, int n, std::string* name, s
   for (int64_t r : m.refused) refused += r;
   char buf[256];
   std::snprintf(buf, sizeof buf, "%s %s: accepted %lld refused %lld (unsigned %lld, bad signature %lld, replayed %lld)",
-                m.program.c_str(), m.keyed ? "signs" : "no key", static_cast<long long>(m.accepted),
+                igms::bus::printableName(m.program, 40).c_str(), m.keyed ? "signs" : "no key", static_cast<long long>(m.accepted),
                 static_cast<long long>(refused), static_cast<long long>(m.refused[0]),
                 static_cast<long long>(m.refused[1]), static_cast<long long>(m.refused[2]));
   *line = buf;
@@ -172,7 +173,7 @@ bool summarize<igms::device_status_t>(const uint8_t* d, int n, std::string* name
   std::snprintf(buf, sizeof buf,
                 "%s: read p99 %.0f us max %.0f us, write p99 %.0f us max %.0f us, %lld overruns, %lld failed, "
                 "%lld readings refused, max force %.2f N",
-                m.device.c_str(), m.read_us_p99, m.read_us_max, m.write_us_p99, m.write_us_max,
+                igms::bus::printableName(m.device, 60).c_str(), m.read_us_p99, m.read_us_max, m.write_us_p99, m.write_us_max,
                 static_cast<long long>(m.overruns), static_cast<long long>(m.failed_calls),
                 static_cast<long long>(m.readings_rejected), m.max_force);
   *line = buf;
@@ -228,8 +229,13 @@ struct Channel {
 
 class Spy {
  public:
+  // Channels counted one by one; beyond, in one row (a flood of names never grows the table).
+  static constexpr size_t kMaxChannels = 512;
+  static constexpr const char* kOtherChannels = "(other channels)";
+
   Spy(const std::string& filter, std::optional<igms::bus::BusKey> key)
       : filter_(filter), verifier_(std::move(key), "igms-spy") {
+    verifier_.acceptReplays();  // a monitor: a replay on the bus is shown, not refused
     decoders_ = {decoder<igms::robot_state_t>(), decoder<igms::haptic_input_t>(), decoder<igms::server_status_t>(),
                  decoder<igms::client_status_t>(), decoder<igms::command_t>(), decoder<igms::heartbeat_t>(),
                  decoder<igms::session_info_t>(), decoder<igms::trajectory_t>(), decoder<igms::contacts_t>(),
@@ -240,7 +246,8 @@ class Spy {
     if (!std::regex_match(channel, filter_)) return;
     const double t = now();
     std::lock_guard<std::mutex> lock(mutex_);
-    Channel& c = channels_[channel];
+    const bool counted = channels_.count(channel) > 0 || channels_.size() < kMaxChannels;
+    Channel& c = channels_[counted ? channel : std::string(kOtherChannels)];
     ++c.count;
     c.bytes += rbuf->data_size;
     c.arrivals.push_back(t);
@@ -309,11 +316,13 @@ class Spy {
         if (first)
           std::fprintf(out, "%-24s %9s %9s %9s %10s %6s %6s %7s  %s\n", "channel", "count", "rate Hz", "jitter ms",
                        "kB/s", "gaps", "bad", "refused", "type / latest");
-        std::fprintf(out, "%-24s %9lld %9.1f %9.3f %10.1f %6lld %6lld %7lld  %s%s\n", name.c_str(),
+        // Names and lines come off the bus: escaped, so no terminal sequence from the wire is printed.
+        std::fprintf(out, "%-24s %9lld %9.1f %9.3f %10.1f %6lld %6lld %7lld  %s%s\n",
+                     igms::bus::printableName(name).c_str(),
                      static_cast<long long>(c.count), rate, jitter, bw / 1e3, static_cast<long long>(c.seq_gaps),
                      static_cast<long long>(c.undecodable), static_cast<long long>(c.refused),
                      c.type.empty() ? "(not an igms type)" : c.type.c_str(), c.signed_ ? " (signed)" : "");
-        if (!c.latest.empty()) std::fprintf(out, "%-24s   %s\n", "", c.latest.c_str());
+        if (!c.latest.empty()) std::fprintf(out, "%-24s   %s\n", "", igms::bus::printableName(c.latest, 400).c_str());
       }
       first = false;
     }

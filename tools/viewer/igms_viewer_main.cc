@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
   app.add_option("--key-file", key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--port", web.port, "HTTP port (0: any free port)")->check(CLI::Range(0, 65535));
   app.add_option("--bind", web.bind, "address to listen on (default 127.0.0.1: this machine only)");
+  app.add_flag("--allow-no-origin", web.allow_no_origin,
+               "take WebSockets without an Origin header (a script of your own; browsers always send one)");
   app.add_option("--log", log_path, "play this recorded session (.lcmlog or .lcmlog.gz) instead of the bus")
       ->check(CLI::ExistingFile);
   app.add_option("--frame-rate", frame_hz, "frames per second to the browser (default 60)")

@@ -152,10 +152,14 @@ function onMessage(text) {
 }
 
 function connect() {
-  const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws' +
-              (token ? '?token=' + encodeURIComponent(token) : '');
+  const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws';
   socket = new WebSocket(url);
-  socket.onopen = () => { state.connected = true; hud.connection(true); };
+  socket.onopen = () => {
+    // The token goes as the socket's first message, never in a URL (server logs, history, process lists).
+    if (token) socket.send(JSON.stringify({type: 'auth', token: token}));
+    state.connected = true;
+    hud.connection(true);
+  };
   socket.onmessage = (event) => onMessage(event.data);
   socket.onclose = () => {
     state.connected = false;
