@@ -22,6 +22,7 @@ CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s, const VectorX& 
     : model_(m), scene_(s), limits_(m, q_reference, s.joint_limits), free_bodies_(m), data_(m),
       tau_total_(VectorX::Zero(m.nv)),
       fext_(static_cast<size_t>(m.nb)), KJ_(6, m.nv), J_(6, m.nv) {
+  for (Matrix6X& J : coupling_J_) J.setZero(6, m.nv);
   for (int i = 0; i < m.nb; ++i)
     if (m.joint_type[i] == JointType::Floating) floating_.push_back(DofRange{m.v_index[i], m.v_index[i] + 6, 0.0});
   if (contacts && !contacts->empty()) {
@@ -253,6 +254,7 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
     const CouplingForce& u = at.couplings[static_cast<size_t>(h_i)];
     if (!u.coupled) continue;
     pointJacobian(model_, data_, u.frame, u.point_local, J_);
+    coupling_J_[static_cast<size_t>(h_i)] = J_;  // for appliedCouplings, once the step is done
     // A += J^T (h B + h^2 K) J, rhs -= h^2 J^T K J v over the 6 rows (translation: K, B at the
     // point; rotation: k_rot I, b_rot I), written out: no temporaries.
     KJ_.topRows<3>().noalias() = (h * u.B + h * h * u.K) * J_.topRows<3>();
@@ -268,6 +270,30 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
       rhs[c] -= J_.col(c).dot(KJv);
       for (int r = c; r >= 0; r = model_.dof_parent[r]) A(r, c) += J_.col(r).dot(KJ_.col(c));
     }
+  }
+}
+
+void CoupledDynamics::appliedCouplings(const CoupledEvaluation& at, const VectorX& v, const VectorX& v_end, double h,
+                                       std::array<CouplingForce, kMaxHands>& applied) const {
+  for (int i = 0; i < at.ncouplings; ++i) {
+    const CouplingForce& u = at.couplings[static_cast<size_t>(i)];
+    CouplingForce& a = applied[static_cast<size_t>(i)];
+    a = u;
+    if (!u.coupled) continue;
+    const Matrix6X& J = coupling_J_[static_cast<size_t>(i)];
+    // The point's displacement over the step (h J v+) and its velocity change (J (v+ - v)), and the same
+    // for the link's rotation; the moving dofs are those of J's non-zero columns, a chain up dof_parent.
+    Vector3 moved = Vector3::Zero(), dvel = Vector3::Zero(), turned = Vector3::Zero(), dspin = Vector3::Zero();
+    const int body = model_.frame(u.frame).body;
+    if (body < 0) continue;
+    for (int c = model_.v_index[body] + model_.joint_nv[body] - 1; c >= 0; c = model_.dof_parent[c]) {
+      moved += (h * v_end[c]) * J.col(c).head<3>();
+      dvel += (v_end[c] - v[c]) * J.col(c).head<3>();
+      turned += (h * v_end[c]) * J.col(c).tail<3>();
+      dspin += (v_end[c] - v[c]) * J.col(c).tail<3>();
+    }
+    a.on_robot = u.on_robot - u.K * moved - u.B * dvel;
+    a.torque = u.torque - u.k_rot * turned - u.b_rot * dspin;
   }
 }
 

@@ -125,6 +125,13 @@ class CoupledDynamics {
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
   void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, MatrixX& A,
                     VectorX& rhs);
+  // The couplings' forces a linearly-implicit step applied, from v (its start) to v_end (its end, the
+  // contact step's included): the stiff terms are taken at the end of the step, H dv = h (F - h K v+
+  // - D dv), so each hand's force was f - K h J v+ - B J (v+ - v) at its point (and its moment
+  // t - k_rot h Jw v+ - b_rot Jw (v+ - v)), J at the start (linearSystem's). Writes `applied` (the
+  // start evaluation's couplings with those forces); allocates nothing.
+  void appliedCouplings(const CoupledEvaluation& at, const VectorX& v, const VectorX& v_end, double h,
+                        std::array<CouplingForce, kMaxHands>& applied) const;
   // The contact step (contact_solver.h) after the unconstrained update: v holds v_free and becomes v+;
   // factored: the matrix the step solved with, factored (null: H's, from the start evaluation).
   void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
@@ -185,6 +192,7 @@ class CoupledDynamics {
   std::vector<Force> fext_;
   Matrix6X KJ_;
   Matrix6X J_;
+  std::array<Matrix6X, kMaxHands> coupling_J_;  // each coupling's point Jacobian at the step's start
 };
 
 }  // namespace igms

@@ -48,6 +48,8 @@ Simulation::Simulation(ResolvedScene resolved)
   applied_acceleration_ = dynamics_->hasContacts() && scene_.integrator == IntegratorKind::LinearlyImplicit;
   dynamics_->reportAppliedAcceleration(applied_acceleration_);
   v_start_ = VectorX::Zero(m.nv);
+  v_implicit_ = VectorX::Zero(m.nv);
+  q_start_ = VectorX::Zero(m.nq);
   scratch_ = std::make_unique<IntegratorScratch<CoupledEvaluation>>(m, *dynamics_);
   for (size_t k = 0; k < resolved_.robots.size(); ++k) {
     controllers_.push_back(std::make_unique<RobotController>(m, resolved_, static_cast<int>(k)));
@@ -331,18 +333,27 @@ bool Simulation::step(const HandInputs& hands) {
   }
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
-  if (applied_acceleration_) v_start_ = v_;
+  const bool implicit = scene_.integrator == IntegratorKind::LinearlyImplicit;
+  if (applied_acceleration_ || implicit) v_start_ = v_;
+  if (implicit) q_start_ = q_;
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
-  // What the step reports is the evaluation at its start state.
+  // What the step reports is the evaluation at its start state, but for the hands' forces under the
+  // linearly-implicit step: that step takes their springs at its end, and it reports what it applied.
   const CoupledEvaluation& start = scratch_->start;
   if (applied_acceleration_) qdd_ = (v_ - v_start_) / scene_.dt;
   else qdd_ = start.qdd;
+  const std::array<CouplingForce, kMaxHands>* couplings = &start.couplings;
+  if (implicit && ok) {
+    implicitEndVelocity();
+    dynamics_->appliedCouplings(start, v_start_, v_implicit_, scene_.dt, applied_couplings_);
+    couplings = &applied_couplings_;
+  }
   // The couplings are in the order of the interacting hands among outcome_.hands.
   int c = 0;
   for (int k = 0; k < outcome_.nhands; ++k) {
     HandOutcome& ho = outcome_.hands[static_cast<size_t>(k)];
     if (ho.mode == InteractionMode::None) continue;
-    const CouplingForce& u = start.couplings[static_cast<size_t>(c++)];
+    const CouplingForce& u = (*couplings)[static_cast<size_t>(c++)];
     if (c == 1) outcome_.force_point = u.point;  // the first interacting hand's (zero when it touches nothing)
     if (!u.coupled) continue;
     ho.force = u.on_robot;
@@ -368,6 +379,24 @@ bool Simulation::step(const HandInputs& hands) {
   v_good_ = v_;
   record(outcome_.replanned);
   return true;
+}
+
+void Simulation::implicitEndVelocity() {
+  v_implicit_ = v_;
+  if (!dynamics_->hasContacts()) return;  // v is the end velocity, in the coordinates the step solved in
+  // With contact a floating joint's linear velocity took h w x v explicitly before the solve
+  // (worldVelocityStep) and was carried into the turned frame after it (integrateContactStep): both
+  // undone, so it is the v+ of the step's linear system, in the start frame.
+  const Model& m = *model_;
+  for (int i = 0; i < m.nb; ++i) {
+    if (m.joint_type[i] != JointType::Floating) continue;
+    const int iq = m.q_index[i], iv = m.v_index[i];
+    const Eigen::Quaterniond r0(q_start_[iq + 3], q_start_[iq + 4], q_start_[iq + 5], q_start_[iq + 6]);
+    const Eigen::Quaterniond r1(q_[iq + 3], q_[iq + 4], q_[iq + 5], q_[iq + 6]);
+    const Vector3 in_start = (r0.normalized().conjugate() * r1.normalized()) * Vector3(v_.segment<3>(iv));
+    v_implicit_.segment<3>(iv) =
+        in_start - scene_.dt * Vector3(v_start_.segment<3>(iv + 3)).cross(Vector3(v_start_.segment<3>(iv)));
+  }
 }
 
 bool Simulation::checkFinite() {

@@ -87,8 +87,10 @@ struct HandOutcome {
   bool clamped = false;
 };
 
-// What the last step did, for the state message: the users' forces at the
-// step's start state, whatever the integrator (what the paper plots).
+// What the last step did, for the state message: the users' forces the step
+// applied. For the explicit schemes that is their value at the step's start
+// state; the linearly-implicit step takes the springs at its end, and reports
+// those (CoupledDynamics::appliedCouplings): what moved the robot or the body.
 struct StepOutcome {
   InteractionMode mode = InteractionMode::None;  // the first interacting hand's (in client order)
   Vector3 force_on_robot = Vector3::Zero();      // world, N: the sum over the hands
@@ -232,7 +234,10 @@ class Simulation {
   VectorX pd_kp_, pd_kd_, pd_q_, pd_v_;
   bool any_pd_ = false;
   bool applied_acceleration_ = false;   // qdd is (v+ - v) / h (contact with the linearly-implicit step)
-  VectorX v_start_;
+  VectorX v_start_;                      // the step's start velocity (the implicit step's forces, qdd)
+  std::array<CouplingForce, kMaxHands> applied_couplings_;  // the hands' forces the implicit step applied
+  VectorX q_start_, v_implicit_;         // the implicit step's start q, and its v+ as its linear system saw it
+  void implicitEndVelocity();
   VectorX q_, v_, qdd_, tau_;
   VectorX qdd_cmd_;
   double t_ = 0.0;

@@ -117,9 +117,12 @@ InteractionInput pose(const SE3& X, const Vector3& offset, const Vector3& turn) 
 }
 
 // tau = J^T [F; T]: the step's acceleration is forward dynamics under the generalised force of the
-// wrench the outcome reports, at the start state.
+// wrench the outcome reports, at the start state (the explicit step's: its wrench is the start one;
+// the linearly-implicit step reports the wrench it applied at its end, applied_force_test).
 TEST(Pull6D, TheTorqueEntersTheDynamicsThroughTheFrameJacobian) {
-  Simulation sim(pullScene(20.0));
+  Scene s = pullScene(20.0);
+  s.integrator = IntegratorKind::SemiImplicitEuler;
+  Simulation sim(s);
   const int ee = sim.model().frameIndex("ee_link");
   const SE3 X = sim.linkPoses()[static_cast<size_t>(ee)];
   const InteractionInput in = pose(X, Vector3(0.01, 0, 0), Vector3(0, 0.1, 0.05));

@@ -60,7 +60,8 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
   igms::cli::roundTripDigits(f);
   f << "t,mode,ee_x,ee_y,ee_z,fx,fy,fz,min_distance,in_collision";
   for (const std::string& c : r.q_columns) f << "," << c;
-  f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z,solver_sweeps,solver_residual\n";
+  f << ",contacts,max_penetration,tip_x,tip_y,tip_z,proxy_x,proxy_y,proxy_z,solver_sweeps,solver_residual,"
+       "hand_fx,hand_fy,hand_fz\n";
   for (const auto& s : r.samples) {
     f << s.t << "," << s.mode << "," << s.ee.x() << "," << s.ee.y() << "," << s.ee.z() << "," << s.force_on_robot.x()
       << "," << s.force_on_robot.y() << "," << s.force_on_robot.z() << "," << s.min_obstacle_distance << ","
@@ -68,7 +69,8 @@ void writeCsv(const igms::ScenarioResult& r, const std::string& path) {
     for (double q : s.q) f << "," << q;
     f << "," << s.contacts << "," << s.max_penetration;
     for (const igms::Vector3* v : {&s.tip, &s.proxy}) f << "," << v->x() << "," << v->y() << "," << v->z();
-    f << "," << s.solver_sweeps << "," << s.solver_residual << "\n";
+    f << "," << s.solver_sweeps << "," << s.solver_residual;
+    f << "," << s.rendered.x() << "," << s.rendered.y() << "," << s.rendered.z() << "\n";
   }
 }
 

@@ -76,6 +76,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     s.q.assign(sim.q().data(), sim.q().data() + sim.q().size());
     s.mode = static_cast<int>(sim.outcome().mode);
     s.force_on_robot = sim.outcome().force_on_robot;
+    s.rendered = rendered;
     s.ee = ee >= 0 ? links[static_cast<size_t>(ee)].p : Vector3::Zero();
     s.tip = device ? tip : Vector3::Zero();
     s.proxy = device ? client.proxy().position() : Vector3::Zero();

@@ -17,6 +17,7 @@ struct ScenarioSample {
   std::vector<double> q;   // the environment's coordinates (ScenarioResult::q_columns names them)
   int mode;
   Vector3 force_on_robot, ee;
+  Vector3 rendered = Vector3::Zero();  // the force the hand was rendered this step (the device's)
   Vector3 tip, proxy;      // the device's tip and its proxy, scene frame (zero without a device)
   double min_obstacle_distance;
   bool in_collision;
