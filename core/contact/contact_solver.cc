@@ -329,6 +329,7 @@ void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const V
     v = v_free_;
   }
   if (!converged) ++stats_.unconverged;
+  ++stats_.solves;
   report(contacts);
   // Positions: what still overlaps at the step's end closes (a bounce ends where it would have,
   // e (approach h - gap) above the surface), by a pseudo-velocity that no velocity keeps.

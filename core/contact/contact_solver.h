@@ -56,6 +56,7 @@ struct ContactSolveStats {
   int64_t energy_capped = 0;   // solves whose impulses, still adding energy, were scaled down (capEnergy), since the start
   double residual = 0.0;       // m/s: the largest velocity change of its last sweep
   int64_t unconverged = 0;     // solves that stopped at the sweep limit, since the start
+  int64_t solves = 0;          // velocity solves (steps with contacts), since the start
 };
 
 class ContactSolver {

@@ -123,6 +123,11 @@ void StatePublisher::publish(const Snapshot& s) {
   }
   stats_.last_sim_time = s.sim_time;
   stats_.step_times_us.push_back(s.step_us);
+  stats_.solve = s.solve;
+  if (s.solved) {
+    stats_.solve_sweeps_max = std::max(stats_.solve_sweeps_max, s.solve.iterations);
+    stats_.solve_residual_max = std::max(stats_.solve_residual_max, s.solve.residual);
+  }
   stats_.limits.observe(s.q);
 }
 

@@ -36,6 +36,9 @@ struct PublishStats {
   double min_distance = 1e9;           // m, over the run
   std::vector<double> step_times_us;   // since the status last drained them
   JointLimitReport limits;             // joints beyond their position limits, over the run
+  ContactSolveStats solve;             // the contact solver's totals, as of the newest state
+  int solve_sweeps_max = 0;            // since the status last drained them: the most sweeps in a solve,
+  double solve_residual_max = 0.0;     // and the largest final residual (m/s)
 };
 
 // One LCM datagram's payload at most (LCM 1.3.1 sends a message as one UDP datagram; a larger one

@@ -104,6 +104,14 @@ void StatusReporter::publishStatus(PublishStats& p) {
     s.client_rejected.push_back(c.rejected);
   }
   s.nclients = static_cast<int32_t>(s.client_ids.size());
+  s.contact_solves = p.solve.solves;
+  s.contact_unconverged = p.solve.unconverged;
+  s.contact_position_unconverged = p.solve.position_unconverged;
+  s.contact_warm_dropped = p.solve.warm_dropped;
+  s.contact_sweeps_max = p.solve_sweeps_max;
+  s.contact_residual_max = p.solve_residual_max;
+  p.solve_sweeps_max = 0;
+  p.solve_residual_max = 0.0;
   bus_.publish(channels::kServerStatus, s);
   if (seq_ % 10 == 1) {
     requestSessionInfo(s.session_token);
@@ -124,6 +132,13 @@ void StatusReporter::print(const server_status_t& s, const PublishStats& p) cons
                static_cast<long long>(s.inputs_rejected), static_cast<long long>(s.commands_received),
                static_cast<long long>(s.commands_rejected), static_cast<long long>(p.collisions), p.min_distance,
                s.state.c_str(), s.message.empty() ? "" : ": ", s.message.c_str());
+  if (s.contact_solves > 0)
+    std::fprintf(stderr,
+                 "igms-server:   contact: %lld solves, %lld unconverged (positions %lld), %lld warm starts dropped; "
+                 "this period at most %d sweeps, residual %.2g m/s\n",
+                 static_cast<long long>(s.contact_solves), static_cast<long long>(s.contact_unconverged),
+                 static_cast<long long>(s.contact_position_unconverged), static_cast<long long>(s.contact_warm_dropped),
+                 s.contact_sweeps_max, s.contact_residual_max);
   for (int k = 0; k < s.nclients && s.seq % 10 == 0; ++k) {  // the clients, once a second
     static const char* const kModes[] = {"none", "push", "pull"};
     const int8_t m = s.client_modes[static_cast<size_t>(k)];

@@ -35,6 +35,8 @@ struct Snapshot {
   std::vector<double> q, v, qdd, tau;
   std::vector<SE3> link_poses;
   // Filled on the steps the contact channel is due (contacts_due), else left stale.
+  ContactSolveStats solve;  // the contact solver's, after this step (solved: the step had contacts)
+  bool solved = false;
   bool contacts_due = false;
   int ncontacts = 0, contacts_total = 0;
   int64_t contacts_dropped = 0;
@@ -124,6 +126,8 @@ inline void takeSnapshot(Simulation& sim, int64_t utime, int32_t step_us, bool c
   }
   const auto& poses = sim.linkPoses();
   for (size_t f = 0; f < poses.size(); ++f) s.link_poses[f] = poses[f];
+  s.solve = sim.contactStats();
+  s.solved = sim.contacts().n > 0;
   s.contacts_due = contacts_due && !s.contacts.empty();
   if (s.contacts_due) takeContacts(sim, s);
 }

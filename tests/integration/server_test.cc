@@ -117,11 +117,36 @@ TEST(Server, StreamsStateAtOneKilohertzAndStopsOnSigterm) {
     EXPECT_EQ(listener.last.nq, 6);
     EXPECT_EQ(listener.last.nlinks, 8);
     EXPECT_GT(listener.status.rate_hz, 950.0);
+    EXPECT_EQ(listener.status.contact_solves, 0) << "no contact in this scene";
   }
   const double rate = (after - before) / 2.0;
   EXPECT_GT(rate, 900.0) << "states per second received";
   EXPECT_LT(rate, 1100.0);
   EXPECT_EQ(server.stop(), 0) << "clean exit on SIGTERM";
+}
+
+// Issue 42: the contact solve's statistics reach the server's status. A pyramid of boxes has contacts
+// at every step; every solve converges (the solver's tolerance is 1e-10 m/s).
+TEST(Server, TheStatusCountsTheContactSolves) {
+  Listener listener;
+  ChildProcess server = startServer("box_pyramid.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  for (int k = 0; k < 800; ++k) {
+    {
+      std::lock_guard<std::mutex> l(listener.mutex);
+      if (listener.status.sim_time > 2.0) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::lock_guard<std::mutex> l(listener.mutex);
+  const server_status_t& st = listener.status;
+  ASSERT_GT(st.sim_time, 2.0);
+  EXPECT_GE(st.contact_solves, st.steps - 1) << "a solve every step";
+  EXPECT_EQ(st.contact_unconverged, 0);
+  EXPECT_EQ(st.contact_position_unconverged, 0);
+  EXPECT_GE(st.contact_sweeps_max, 1);
+  EXPECT_GE(st.contact_residual_max, 0.0);
+  EXPECT_LE(st.contact_residual_max, 1e-10);
 }
 
 // The paper's nominal motion takes the PUMA's wrist (joint5) to 115 deg, past its URDF limit of 100 deg,
