@@ -36,6 +36,7 @@ alive_after() {  # PID SECONDS: still running that long after
 igms_start_logger "$work/captured.lcmlog" "$url" -q --wait-session-s 2
 "$build/server/igms-server" --scene "$scene" --lcm-url "$url" --quiet 2> "$work/first.log" &
 first=$!
+igms_pids+=($first)
 sleep 1.5
 "$build/tools/igms-command" --lcm-url "$url" shutdown 2> "$work/command1.log" || fail "the live shutdown: $(cat "$work/command1.log")"
 wait "$first" || fail "the first server's exit: $(cat "$work/first.log")"
@@ -49,6 +50,7 @@ start_second() {  # LOG [server options]
   shift
   "$build/server/igms-server" --scene "$scene" --lcm-url "$url" "$@" 2> "$log" &
   second=$!
+  igms_pids+=($second)  # stopped on any exit path, a failed check included
   sleep 1.0
 }
 stop_second() {  # LOG: a live, signed command still stops it
