@@ -26,25 +26,40 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
+// Runs igms-scenario on `scene` (and a device script) into `csv`; reads its header into `header`.
+void runScenario(const std::vector<std::string>& args, const std::string& csv, std::ifstream& in,
+                 std::vector<std::string>& header) {
+  std::vector<std::string> argv = {std::string(std::getenv("IGMS_TOOLS_DIR")) + "/igms-scenario"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.insert(argv.end(), {"--csv", csv});
+  {
+    test::ChildProcess run(argv);
+    ASSERT_EQ(run.wait(std::chrono::milliseconds(60000)), 0);
+  }
+  in.open(csv);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  header = split(line);
+}
+
+// The index of a column of the header.
+size_t columnOf(const std::vector<std::string>& header, const std::string& name) {
+  for (size_t k = 0; k < header.size(); ++k)
+    if (header[k] == name) return k;
+  ADD_FAILURE() << "no column " << name;
+  return 0;
+}
+
 TEST(ScenarioCsv, EveryNumberRoundTripsAndTheContactsAreTheSolvers) {
   const std::string scene = test::sourceDir() + "/scenes/ball_on_mesh.yaml";
   const std::string csv = ::testing::TempDir() + "/ball_on_mesh.csv";
   const double seconds = 1.5;
-  {
-    test::ChildProcess run({std::string(std::getenv("IGMS_TOOLS_DIR")) + "/igms-scenario", "--scene", scene,
-                            "--seconds", "1.5", "--csv", csv});
-    ASSERT_EQ(run.wait(std::chrono::milliseconds(60000)), 0);
-  }
-  std::ifstream in(csv);
+  std::ifstream in;
+  std::vector<std::string> header;
+  runScenario({"--scene", scene, "--seconds", "1.5"}, csv, in, header);
+  if (HasFatalFailure()) return;
   std::string line;
-  ASSERT_TRUE(std::getline(in, line));
-  const std::vector<std::string> header = split(line);
-  auto column = [&](const std::string& name) {
-    for (size_t k = 0; k < header.size(); ++k)
-      if (header[k] == name) return static_cast<int>(k);
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  };
+  auto column = [&](const std::string& name) { return static_cast<int>(columnOf(header, name)); };
   const int contacts = column("contacts"), first_q = column("ball.x");
   const int sweeps = column("solver_sweeps"), residual = column("solver_residual");
   Simulation sim(loadScene(scene));
@@ -59,7 +74,9 @@ TEST(ScenarioCsv, EveryNumberRoundTripsAndTheContactsAreTheSolvers) {
     ASSERT_EQ(std::stoi(cells[static_cast<size_t>(sweeps)]), solved ? sim.contactStats().iterations : 0) << "step " << k;
     ASSERT_EQ(std::strtod(cells[static_cast<size_t>(residual)].c_str(), nullptr), solved ? sim.contactStats().residual : 0.0)
         << "step " << k;
-    if (solved) ASSERT_GE(sim.contactStats().iterations, 1) << "step " << k;
+    if (solved) {
+      ASSERT_GE(sim.contactStats().iterations, 1) << "step " << k;
+    }
     touching += sim.contacts().n > 0;
     for (int i = 0; i < sim.model().nq; ++i)
       ASSERT_EQ(std::strtod(cells[static_cast<size_t>(first_q + i)].c_str(), nullptr), sim.q()[i])
@@ -81,24 +98,14 @@ TEST(ScenarioCsv, EveryNumberRoundTripsAndTheContactsAreTheSolvers) {
 TEST(ScenarioCsv, TheHandFeelsTheForceTheStepApplied) {
   for (const std::string hand : {"hand", "rigid"}) {
     const std::string csv = ::testing::TempDir() + "/box_push_" + hand + ".csv";
-    {
-      test::ChildProcess run({std::string(std::getenv("IGMS_TOOLS_DIR")) + "/igms-scenario", "--scene",
-                              test::sourceDir() + "/scenes/box_push.yaml", "--device",
-                              "scripted:" + test::sourceDir() + "/scenes/box_push_" + hand + ".yaml", "--seconds", "5",
-                              "--csv", csv});
-      ASSERT_EQ(run.wait(std::chrono::milliseconds(60000)), 0);
-    }
-    std::ifstream in(csv);
+    std::ifstream in;
+    std::vector<std::string> header;
+    runScenario({"--scene", test::sourceDir() + "/scenes/box_push.yaml", "--device",
+                 "scripted:" + test::sourceDir() + "/scenes/box_push_" + hand + ".yaml", "--seconds", "5"},
+                csv, in, header);
+    if (HasFatalFailure()) return;
     std::string line;
-    ASSERT_TRUE(std::getline(in, line));
-    const std::vector<std::string> header = split(line);
-    auto column = [&](const std::string& name) {
-      for (size_t k = 0; k < header.size(); ++k)
-        if (header[k] == name) return k;
-      ADD_FAILURE() << "no column " << name;
-      return size_t{0};
-    };
-    const size_t fx = column("fx"), hx = column("hand_fx");
+    const size_t fx = columnOf(header, "fx"), hx = columnOf(header, "hand_fx");
     double worst = 0.0, sliding_worst = 0.0, largest = 0.0;
     int pushing = 0;
     while (std::getline(in, line)) {

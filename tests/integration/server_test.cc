@@ -52,10 +52,18 @@ class Listener {
     ++statuses;
   }
   bool waitForStatus(int n, double seconds) {
+    return waitUntil(seconds, [&] { return statuses >= n; });
+  }
+  // A status past this simulated time (the status's sim_time), within 8 s of wall time.
+  bool waitForSimTime(double t) {
+    return waitUntil(8.0, [&] { return status.sim_time > t; });
+  }
+  template <typename Done>
+  bool waitUntil(double seconds, Done done) {
     for (int k = 0; k < seconds * 100; ++k) {
       {
         std::lock_guard<std::mutex> l(mutex);
-        if (statuses >= n) return true;
+        if (done()) return true;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
@@ -131,13 +139,7 @@ TEST(Server, TheStatusCountsTheContactSolves) {
   Listener listener;
   ChildProcess server = startServer("box_pyramid.yaml");
   ASSERT_TRUE(listener.waitForStatus(1, 10.0));
-  for (int k = 0; k < 800; ++k) {
-    {
-      std::lock_guard<std::mutex> l(listener.mutex);
-      if (listener.status.sim_time > 2.0) break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  listener.waitForSimTime(2.0);
   std::lock_guard<std::mutex> l(listener.mutex);
   const server_status_t& st = listener.status;
   ASSERT_GT(st.sim_time, 2.0);
@@ -156,13 +158,7 @@ TEST(Server, TheStatusNamesTheJointsThatWentBeyondTheirLimits) {
   Listener listener;
   ChildProcess server = startServer("puma_wall.yaml");
   ASSERT_TRUE(listener.waitForStatus(1, 10.0));
-  for (int k = 0; k < 800; ++k) {
-    {
-      std::lock_guard<std::mutex> l(listener.mutex);
-      if (listener.status.sim_time > 4.0) break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  listener.waitForSimTime(4.0);
   std::lock_guard<std::mutex> l(listener.mutex);
   const server_status_t& st = listener.status;
   ASSERT_GT(st.sim_time, 4.0);
