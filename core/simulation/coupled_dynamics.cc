@@ -253,22 +253,23 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
   for (int h_i = 0; h_i < at.ncouplings; ++h_i) {  // each hand's stiffness and damping, summed
     const CouplingForce& u = at.couplings[static_cast<size_t>(h_i)];
     if (!u.coupled) continue;
-    pointJacobian(model_, data_, u.frame, u.point_local, J_);
-    coupling_J_[static_cast<size_t>(h_i)] = J_;  // for appliedCouplings, once the step is done
+    // Kept for appliedCouplings, once the step is done.
+    Matrix6X& J = coupling_J_[static_cast<size_t>(h_i)];
+    pointJacobian(model_, data_, u.frame, u.point_local, J);
     // A += J^T (h B + h^2 K) J, rhs -= h^2 J^T K J v over the 6 rows (translation: K, B at the
     // point; rotation: k_rot I, b_rot I), written out: no temporaries.
-    KJ_.topRows<3>().noalias() = (h * u.B + h * h * u.K) * J_.topRows<3>();
-    KJ_.bottomRows<3>() = (h * u.b_rot + h * h * u.k_rot) * J_.bottomRows<3>();
+    KJ_.topRows<3>().noalias() = (h * u.B + h * h * u.K) * J.topRows<3>();
+    KJ_.bottomRows<3>() = (h * u.b_rot + h * h * u.k_rot) * J.bottomRows<3>();
     Vector6 KJv;
-    KJv.head<3>() = (h * h) * (u.K * (J_.topRows<3>() * v));
-    KJv.tail<3>() = (h * h * u.k_rot) * (J_.bottomRows<3>() * v);
+    KJv.head<3>() = (h * h) * (u.K * (J.topRows<3>() * v));
+    KJv.tail<3>() = (h * h * u.k_rot) * (J.bottomRows<3>() * v);
     // J's non-zero columns are the dofs that move the point (its body's and their ancestors', a
     // chain up dof_parent): on a humanoid's hand 14 of 38, and A's upper triangle only.
     const int body = model_.frame(u.frame).body;
     if (body < 0) continue;
     for (int c = model_.v_index[body] + model_.joint_nv[body] - 1; c >= 0; c = model_.dof_parent[c]) {
-      rhs[c] -= J_.col(c).dot(KJv);
-      for (int r = c; r >= 0; r = model_.dof_parent[r]) A(r, c) += J_.col(r).dot(KJ_.col(c));
+      rhs[c] -= J.col(c).dot(KJv);
+      for (int r = c; r >= 0; r = model_.dof_parent[r]) A(r, c) += J.col(r).dot(KJ_.col(c));
     }
   }
 }

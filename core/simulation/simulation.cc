@@ -333,9 +333,11 @@ bool Simulation::step(const HandInputs& hands) {
   }
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
   CoupledDynamics::Bound f = dynamics_->bind(inputs);
-  const bool implicit = scene_.integrator == IntegratorKind::LinearlyImplicit;
-  if (applied_acceleration_ || implicit) v_start_ = v_;
-  if (implicit) q_start_ = q_;
+  const bool implicit = scene_.integrator == IntegratorKind::LinearlyImplicit;  // applied_acceleration_ implies it
+  if (implicit) {
+    v_start_ = v_;
+    q_start_ = q_;
+  }
   const bool ok = integrateStep(scene_.integrator, *model_, f, q_, v_, scene_.dt, *scratch_);
   // What the step reports is the evaluation at its start state, but for the hands' forces under the
   // linearly-implicit step: that step takes their springs at its end, and it reports what it applied.
