@@ -1,6 +1,8 @@
 // Forward kinematics of every body and every frame (URDF link).
 #pragma once
 
+#include <vector>
+
 #include "core/model/data.h"
 #include "core/model/joint.h"
 
@@ -19,6 +21,11 @@ void forwardKinematics(const Model& model, Data& data, const VectorX& q);
 
 // Poses of the bodies only (data.liMi, data.oMi); frames untouched.
 void bodyKinematics(const Model& model, Data& data, const VectorX& q);
+
+// Every frame's velocity at (q, v), world axes: the linear velocity of its origin and its angular
+// velocity (a frame fixed to the world: zero). bodyKinematics must have run at q; data.v holds the
+// bodies' velocities after.
+void frameVelocities(const Model& model, Data& data, const VectorX& v, std::vector<Motion>& out);
 
 // World pose of frame f from data.oMi (bodyKinematics must have run at this q).
 inline SE3 framePose(const Model& model, const Data& data, int f) {

@@ -20,6 +20,7 @@
 //   controller: {kp: 400, kd: 40, hold_damping: 2.0}   # scalars or one per joint; kind: computed_torque | pd
 //   interaction:
 //     push: {k_p: 2000, max_force: 40, tip_radius: 0.01, friction: 0.5}
+//     coupling: {k: 2000, b: 20}               # the push's spring (k is k_p) and its damper, N s/m
 //     pull: {k: 800, b: 10, max_force: 60, max_stretch: 0.08, link: ee_link, point: [0, 0, 0],
 //            k_rot: 20, b_rot: 0.5, max_torque: 5, max_angle: 0.5}   # N m/rad, N m s/rad, N m, rad
 //     workspace: {scale: 3.0, offset: [0.5, 0.0, 0.3]}   # scene = offset + scale * device
@@ -96,7 +97,15 @@ struct PushParams {
   // friction cone (Coulomb), and slides at its edge beyond: without it a proxy slides round a thin
   // round link until it is under it.
   double friction = 0.5;
+  // The virtual coupling's damper (interaction.coupling.b, N s/m) on the rate the tip goes in:
+  // c = k_p d + b d'. Passive on a device at period T when b >= k_p T / 2 (Colgate and Schenkel
+  // 1997), checked at load; by default b = kCouplingTime k_p.
+  double b = 0.0;
 };
+
+// The default coupling damper per unit stiffness, s: damps a 1 kg body on the push spring to a
+// steady slide within 0.2 s (docs/client.md, "The virtual coupling").
+constexpr double kCouplingTime = 0.01;
 
 struct PullParams {
   bool enabled = false;

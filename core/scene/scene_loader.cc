@@ -1,3 +1,4 @@
+#include <cstdio>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
@@ -401,7 +402,7 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
   }
 
   if (const YAML::Node in = root["interaction"]) {
-    r.onlyKeys(in, "interaction", {"push", "pull", "workspace"});
+    r.onlyKeys(in, "interaction", {"push", "pull", "coupling", "workspace"});
     if (const YAML::Node p = in["push"]) {
       r.onlyKeys(p, "interaction.push", {"k_p", "max_force", "tip_radius", "friction"});
       s.push.enabled = true;
@@ -410,6 +411,20 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
       s.push.tip_radius = r.positive(p, "tip_radius", s.push.tip_radius, "interaction.push");
       s.push.friction = r.number(p, "friction", s.push.friction);
       if (!(s.push.friction >= 0.0)) r.fail(p["friction"], "interaction.push.friction", "must be >= 0");
+    }
+    s.push.b = kCouplingTime * s.push.k_p;
+    if (const YAML::Node c = in["coupling"]) {
+      r.onlyKeys(c, "interaction.coupling", {"k", "b"});
+      if (!s.push.enabled) r.fail(c, "interaction.coupling", "couples the push: needs interaction.push");
+      if (c["k"]) {
+        const double k = r.positive(c, "k", s.push.k_p, "interaction.coupling");
+        if (in["push"]["k_p"] && k != s.push.k_p)
+          r.fail(c["k"], "interaction.coupling.k", "is interaction.push.k_p (the same spring): give one of them");
+        s.push.k_p = k;
+      }
+      s.push.b = kCouplingTime * s.push.k_p;
+      s.push.b = r.number(c, "b", s.push.b);
+      if (s.push.b < 0.0) r.fail(c["b"], "interaction.coupling.b", "must be >= 0 (N s/m)");
     }
     if (const YAML::Node p = in["pull"]) {
       r.onlyKeys(p, "interaction.pull", {"k", "b", "max_force", "max_stretch", "link", "point", "k_rot", "b_rot",
@@ -445,6 +460,17 @@ Scene parseScene(const std::string& yaml, const std::string& source, const std::
     s.rate_hz = r.positive(sim, "rate_hz", 1.0 / s.dt, "simulation");
     s.joint_damping = r.flag(sim, "joint_damping", true);
     s.joint_limits = r.flag(sim, "joint_limits", true);
+  }
+  // The coupling is passive at the scene's rate only with damper enough for the spring's hold.
+  if (s.push.enabled && s.push.b < s.push.k_p / (2.0 * s.rate_hz)) {
+    const YAML::Node in = root["interaction"];
+    const YAML::Node at = in["coupling"] && in["coupling"]["b"] ? in["coupling"]["b"] : in["coupling"] ? in["coupling"] : in["push"];
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "%g N s/m is below k T / 2 = %g N s/m at the scene's %g Hz (Colgate and Schenkel): the coupling "
+                  "would not be passive",
+                  s.push.b, s.push.k_p / (2.0 * s.rate_hz), s.rate_hz);
+    r.fail(at, "interaction.coupling.b", what);
   }
   return s;
 }

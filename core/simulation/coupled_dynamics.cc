@@ -83,14 +83,25 @@ void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce&
       }
     }
     if (!touch.touching) return;
-    const PushForce p = pushForce(touch, c.push_k_p, scene_.push.max_force);
+    // The damper's rate: the tip's approach to the touched point of the link, along the normal.
+    double depth_rate = 0.0;
+    const Vector3 point_local = oMf.inverse().act(touch.point);
+    if (c.push_b > 0.0) {
+      pointJacobian(model_, data_, c.contact_frame, point_local, J_);
+      depth_rate = -(c.tip_velocity - J_.topRows<3>() * v).dot(touch.normal);
+    }
+    const PushForce p = pushForce(touch, c.push_k_p, scene_.push.max_force, c.push_b, depth_rate);
+    if (p.slack) return;
     out.coupled = true;
     out.frame = c.contact_frame;
-    out.point_local = oMf.inverse().act(p.point);
+    out.point_local = point_local;
     out.point = p.point;
     out.on_robot = p.on_link;
     out.clamped = p.clamped;
-    if (!p.clamped) out.K = c.push_k_p * touch.normal * touch.normal.transpose();
+    if (!p.clamped) {
+      out.K = c.push_k_p * touch.normal * touch.normal.transpose();
+      out.B = c.push_b * touch.normal * touch.normal.transpose();
+    }
   } else if (c.mode == InteractionMode::Pull && c.attach_frame >= 0) {
     const Vector3 x = framePose(model_, data_, c.attach_frame).act(c.attach_point);
     pointJacobian(model_, data_, c.attach_frame, c.attach_point, J_);

@@ -50,7 +50,8 @@ struct Coupling {
   Matrix3 tip_rotation = Matrix3::Identity();
   Vector3 tip_angular_velocity = Vector3::Zero();
   Matrix3 attach_rotation = Matrix3::Identity();
-  double push_k_p = 0.0, pull_k = 0.0, pull_b = 0.0, pull_k_rot = 0.0, pull_b_rot = 0.0;
+  // push_b: the virtual coupling's damper on the tip's approach to the touched point (N s/m).
+  double push_k_p = 0.0, push_b = 0.0, pull_k = 0.0, pull_b = 0.0, pull_k_rot = 0.0, pull_b_rot = 0.0;
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
 };
 

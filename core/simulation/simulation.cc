@@ -64,6 +64,7 @@ Simulation::Simulation(ResolvedScene resolved)
   hold_.reserve(controllers_.size());
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
+  link_velocities_.resize(m.frames.size());
   edited_t_.assign(kRecordCapacity, 0.0);
   // Only the first robot's coordinates: a scene of free bodies would otherwise hold 10 minutes of
   // every body's pose (a 216-sphere pile: 725 MB). A one-robot scene records all of q, as before.
@@ -144,6 +145,7 @@ void Simulation::setNominalTrajectory(const std::vector<double>& times, const st
 
 void Simulation::setGains(double push_k_p, double pull_k, double pull_b) {
   gains_.push_k_p = push_k_p;
+  gains_.push_b = scene_.push.b;
   gains_.pull_k = pull_k;
   gains_.pull_b = pull_b;
 }
@@ -433,6 +435,12 @@ const std::vector<SE3>& Simulation::linkPoses() {
   forwardKinematics(*model_, *data_, q_);
   for (size_t f = 0; f < link_poses_.size(); ++f) link_poses_[f] = data_->oMf[f];
   return link_poses_;
+}
+
+const std::vector<Motion>& Simulation::linkVelocities() {
+  bodyKinematics(*model_, *data_, q_);
+  frameVelocities(*model_, *data_, v_, link_velocities_);
+  return link_velocities_;
 }
 
 void Simulation::saveEditedTrajectory(const std::string& path) const {

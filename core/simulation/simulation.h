@@ -143,6 +143,8 @@ class Simulation {
   int pullFrame() const { return resolved_.pull_frame; }
   // World poses of every URDF link at the current state.
   const std::vector<SE3>& linkPoses();
+  // Every link's velocity at the current state, world axes (frameVelocities): its origin's and its angular.
+  const std::vector<Motion>& linkVelocities();
   // What the hands' proxies touch (null with push off), and a hand's proxy (null: no such client yet).
   const TouchWorld* touchWorld() const { return touch_world_.get(); }
   const Proxy* proxyOf(int32_t client) const;
@@ -250,6 +252,7 @@ class Simulation {
   int64_t resume_ramps_ = 0;
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
+  std::vector<Motion> link_velocities_;
   std::vector<double> edited_t_;
   MatrixX edited_q_;            // capacity x the first robot's nq, preallocated
   int record_begin_ = 0, record_nq_ = 0;

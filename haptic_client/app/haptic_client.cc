@@ -82,7 +82,7 @@ void printSummary(const ServoStats& s, double wall) {
 // What the client renders to: the device's limits (or igms's defaults for a device that gives none),
 // and the share of the coupling's force the hand feels when the scene's springs, at the device,
 // are stiffer than it renders stably.
-void printLimits(const DeviceLimits& l, const Scene& scene) {
+void printLimits(const DeviceLimits& l, const Scene& scene, double rate_hz) {
   char stiffness[32] = "unlimited (a simulated device)";
   if (std::isfinite(l.max_stiffness)) std::snprintf(stiffness, sizeof stiffness, "%.0f N/m", l.max_stiffness);
   std::fprintf(stderr,
@@ -96,6 +96,14 @@ void printLimits(const DeviceLimits& l, const Scene& scene) {
                  "igms-haptic: coupling: the scene's springs are %.0f N/m at the device (k x workspace scale %.3g), over "
                  "its stable %.0f N/m: the hand feels %.3g of the force, the robot all of it\n",
                  coupling, scene.workspace_scale, l.max_stiffness, share);
+  if (scene.push.enabled) {
+    const double s = scene.workspace_scale * share;  // device metres to scene metres, and the share felt
+    std::fprintf(stderr,
+                 "igms-haptic: virtual coupling: k %.0f N/m, b %.3g N s/m (on the device: %.0f N/m, %.3g N s/m); "
+                 "passive at %.0f Hz: b >= k T / 2 = %.3g N s/m\n",
+                 scene.push.k_p, scene.push.b, scene.push.k_p * s, scene.push.b * s, rate_hz,
+                 couplingMinDamping(scene, rate_hz));
+  }
 }
 
 // The device's own calls as the loop timed them, and what it reported failed.
@@ -159,6 +167,14 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
   }
+  // The scene's load checked the coupling at its own rate; the servo loop may run slower.
+  if (resolved.scene.push.enabled && resolved.scene.push.b < couplingMinDamping(resolved.scene, o.rate_hz)) {
+    std::fprintf(stderr,
+                 "igms-haptic: %s: interaction.coupling.b %.3g N s/m is below k T / 2 = %.3g N s/m at --rate %.0f Hz: "
+                 "the coupling would not be passive (raise the damper or the rate)\n",
+                 o.scene_path.c_str(), resolved.scene.push.b, couplingMinDamping(resolved.scene, o.rate_hz), o.rate_hz);
+    return 2;
+  }
   const auto* scripted = dynamic_cast<const ScriptedDevice*>(device.get());
   if (!o.export_targets.empty() && !scripted) {
     std::fprintf(stderr, "igms-haptic: --export-targets needs a scripted device (--device scripted:FILE)\n");
@@ -170,10 +186,14 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   if (!o.quiet)
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
                  o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
-  if (!o.quiet) printLimits(device->limits(), resolved.scene);
+  if (!o.quiet) printLimits(device->limits(), resolved.scene, o.rate_hz);
+  // The record's rows, allocated now: the run's cycles (a duration, or a script's end), else 10 minutes'.
+  const double record_s = o.duration > 0 ? o.duration : scripted ? scripted->endTime() : 600.0;
+  ServoRecord record(o.record.empty() ? 0 : static_cast<int64_t>(record_s * o.rate_hz) + 2);
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
                  ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
-                             o.passivity_tolerance_mj * 1e-3});
+                             o.passivity_tolerance_mj * 1e-3},
+                 &record);
   if (o.rt_priority > 0) requestRealtimeAndSay("igms-haptic", "servo loop", o.rt_priority);
   const double wall = loop.run(stop);
   stats.finished = true;
@@ -187,6 +207,16 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
                  static_cast<long long>(bus.undecodable()));
+  if (!o.record.empty()) {
+    std::string error;
+    if (!record.write(o.record, &error)) {
+      std::fprintf(stderr, "igms-haptic: --record %s\n", error.c_str());
+      return 2;
+    }
+    if (record.dropped() > 0)
+      std::fprintf(stderr, "igms-haptic: --record kept the first %zu cycles; %lld more were not recorded\n",
+                   record.rows().size(), static_cast<long long>(record.dropped()));
+  }
   if (!o.export_targets.empty()) {
     FILE* f = std::fopen(o.export_targets.c_str(), "w");
     const std::string text = scripted->pluginTargets();

@@ -30,6 +30,7 @@ struct ClientOptions {
   std::string key_file;        // the bus key (bus/bus_key.h); "": the bus is unauthenticated
   bool accept_replay = false;  // take replayed traffic (igms-replay play) too
   std::string export_targets;  // a scripted device's targets, after the run, for the example plugin
+  std::string record;          // every cycle's tip and forces, as CSV after the run (servo_record.h)
 };
 
 // Returns the exit code: 0 done, 2 setup error, 3 no server.

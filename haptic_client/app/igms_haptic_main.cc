@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
   app.add_option("--connect-timeout", o.connect_timeout, "seconds to wait for the server's first status")
       ->check(igms::cli::positive("SECONDS"));
   app.add_flag("--quiet", o.quiet, "no start and summary lines on stderr");
+  app.add_option("--record", o.record,
+                 "after the run, write every cycle's tip, proxy, the coupling's force and the rendered force here (CSV; "
+                 "kept in memory during the run: the duration's or the script's cycles, else the first 10 minutes)");
   app.add_option("--export-targets", o.export_targets,
                  "after the run, write a scripted device's targets as its device saw them (device frame, link "
                  "waypoints resolved) for the example device plugin (examples/device_plugin)");

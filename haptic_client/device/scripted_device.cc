@@ -43,12 +43,21 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
     hand_b_ = h["b"] ? h["b"].as<double>() : hand_b_;
     if (!(hand_mass_ > 0 && hand_k_ > 0 && hand_b_ >= 0)) fail(path, h, "hand: mass and k must be positive");
   }
+  bool linear = false;  // the script's blend; a waypoint may say its own
+  auto blendOf = [&](const YAML::Node& n, bool fallback) {
+    if (!n["blend"]) return fallback;
+    const std::string b = n["blend"].as<std::string>();
+    if (b != "smooth" && b != "linear") fail(path, n["blend"], "blend: expected smooth or linear");
+    return b == "linear";
+  };
+  linear = blendOf(root, false);
   const YAML::Node w = root["waypoints"];
   if (!w || !w.IsSequence() || w.size() == 0) fail(path, root, "waypoints: expected a list");
   for (const auto& p : w) {
     Waypoint wp;
     if (!p["t"]) fail(path, p, "waypoint without t");
     wp.t = p["t"].as<double>();
+    wp.linear = blendOf(p, linear);
     if (p["link"]) {
       wp.link = p["link"].as<std::string>();
       wp.xyz = p["offset"] ? vec3(path, p, "offset") : Vector3::Zero();
@@ -88,6 +97,11 @@ ScriptedDevice::ScriptedDevice(const std::string& path, const WorkspaceMap& map,
       buttons_.push_back(event);
     }
   end_ = root["end"] ? root["end"].as<double>() : waypoints_.back().t;
+  if (root["max_force"]) {  // the device the script stands for renders this much (default: an Omni's 3.3 N)
+    limits_.max_force = root["max_force"].as<double>();
+    if (!(limits_.max_force > 0.0 && std::isfinite(limits_.max_force)))
+      fail(path, root["max_force"], "max_force: must be positive (N)");
+  }
   if (has_orientation_) {
     limits_.max_torque = root["max_torque"] ? root["max_torque"].as<double>() : 1.0;
     if (!(limits_.max_torque > 0.0)) fail(path, root, "max_torque: must be positive (N m)");
@@ -121,7 +135,7 @@ Vector3 ScriptedDevice::target(double t) {
   for (size_t k = 1; k < waypoints_.size(); ++k) {
     if (t > waypoints_[k].t) continue;
     const double u = (t - waypoints_[k - 1].t) / (waypoints_[k].t - waypoints_[k - 1].t);
-    const double s = u * u * (3.0 - 2.0 * u);  // smooth start and stop
+    const double s = waypoints_[k].linear ? u : u * u * (3.0 - 2.0 * u);  // constant speed, or smooth start and stop
     return at(waypoints_[k - 1]) + s * (at(waypoints_[k]) - at(waypoints_[k - 1]));
   }
   return at(waypoints_.back());
@@ -132,7 +146,7 @@ Eigen::Quaterniond ScriptedDevice::orientationAt(double t) const {
   for (size_t k = 1; k < waypoints_.size(); ++k) {
     if (t > waypoints_[k].t) continue;
     const double u = (t - waypoints_[k - 1].t) / (waypoints_[k].t - waypoints_[k - 1].t);
-    const double s = u * u * (3.0 - 2.0 * u);  // the positions' blend
+    const double s = waypoints_[k].linear ? u : u * u * (3.0 - 2.0 * u);  // the positions' blend
     return waypoints_[k - 1].orientation.slerp(s, waypoints_[k].orientation);
   }
   return waypoints_.back().orientation;
@@ -183,6 +197,9 @@ std::string ScriptedDevice::pluginTargets() const {
     out += line;
   }
   for (const Waypoint& w : waypoints_) {
+    if (w.linear)
+      throw std::runtime_error(path_ + ": a linear segment (blend: linear) has no place in the plugin's targets, "
+                                       "whose segments are all smooth");
     const Vector3 at = w.resolved ? w.xyz : last_position_;
     const Vector3 d = frame_scene_ ? map_.toDevice(at) : at;
     std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", w.t, d.x(), d.y(), d.z());

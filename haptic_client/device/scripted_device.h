@@ -13,6 +13,7 @@
 //                           # a 6-dof device: the tip's orientation (world <- tip, roll pitch yaw, rad),
 //                           # slerped between waypoints; waypoints without rpy keep the one before
 //   max_torque: 1.0         # N m the device renders (a script with rpy; default 1)
+//   max_force: 12           # N the device renders (default 3.3, a PHANToM Omni's peak)
 //   buttons:
 //     - {t: 2.0, down: true}
 //     - {t: 4.0, down: false}
@@ -22,7 +23,10 @@
 //                           # without attach, the scene's interaction.pull link
 //   end: 6.0                # s
 //
-// The tip moves between waypoints with a smooth (C1) blend. With `hand`, the
+//   blend: linear           # every segment at constant speed (default: smooth); a waypoint's own
+//                           # blend: linear or smooth says how the segment leading to it moves
+//
+// The tip moves between waypoints with a smooth (C1) blend, or at constant speed. With `hand`, the
 // scripted target drives a mass-spring-damper "hand" that also feels the
 // rendered force, so force feedback changes the motion as with a person;
 // without it the tip follows the script exactly.
@@ -69,6 +73,7 @@ class ScriptedDevice : public HapticDevice {
     Vector3 point = Vector3::Zero();  // in the link frame
     Vector3 offset = Vector3::Zero(); // as written (xyz becomes the resolved target)
     bool hold = false;                // the same link, point and offset as the waypoint before: stay there
+    bool linear = false;              // the segment to here at constant speed (blend: linear)
     bool resolved = false;
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   };

@@ -79,7 +79,7 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
 }
 
 Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
-                                     const Vector3& tip_velocity) {
+                                     const Vector3& tip_velocity, const std::vector<Motion>* link_velocities) {
   Vector3 on_user = Vector3::Zero();
   touching_ = false;
   contact_frame_ = -1;
@@ -118,15 +118,43 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   // reaction, along that surface's normal as the server applies c (the proxy's friction is the hand's
   // alone, so it is left out there: what the body gets, the hand feels); on what does not, the whole
   // spring, a wall with friction.
+  // The coupling's damper acts along the touched surface's normal on the rate the tip goes in, against
+  // that surface point's velocity in the estimate, as the server's does against the robot's.
   const Vector3 stretch = proxy_.stretch(tip);
+  const double dt = estimate_time - last_links_time_;
+  const bool moved = dt > 1e-9 && last_links_.size() == links.size();
   const int k = proxy_.deepest(world_, tip, true);
   if (k >= 0) {
     touching_ = true;
     contact_frame_ = world_.geoms()[static_cast<size_t>(proxy_.touch(k).geom)].frame;
-    const Vector3& n = proxy_.touch(k).normal;
-    on_user = scene_.push.k_p * stretch.dot(n) * n;
+    const ProxyTouch& touch = proxy_.touch(k);
+    const Vector3& n = touch.normal;
+    Vector3 surface_velocity = Vector3::Zero();
+    const size_t f = static_cast<size_t>(contact_frame_);
+    if (link_velocities) {
+      const Motion& m = (*link_velocities)[f];
+      surface_velocity = m.v + m.w.cross(touch.surface - links[f].p);
+    } else if (moved) {  // the same material point at the last estimate and this one
+      surface_velocity = (touch.surface - last_links_[f].act(links[f].inverse().act(touch.surface))) / dt;
+    }
+    const double depth_rate = -(tip_velocity - surface_velocity).dot(n);
+    on_user = std::max(0.0, scene_.push.k_p * stretch.dot(n) + scene_.push.b * depth_rate) * n;
+    // The server pushes from the step whose input says so, the next one: this cycle's step did not, so
+    // the hand feels nothing yet either (what the body gets, the hand feels). Before the start-up guard
+    // arms the force stands, for the guard to see a tip that starts inside.
+    if (input_.mode != InteractionMode::Push && guard_.armed()) on_user.setZero();
   } else {
     on_user = scene_.push.k_p * stretch;
+    const int w = proxy_.deepest(world_, tip, false);
+    if (w >= 0) {  // a wall: its damper along the normal, never pulling the hand in
+      const Vector3& n = proxy_.touch(w).normal;
+      const double normal = on_user.dot(n);
+      on_user += (std::max(0.0, normal - scene_.push.b * tip_velocity.dot(n)) - normal) * n;
+    }
+  }
+  if (moved || last_links_.size() != links.size()) {
+    last_links_ = links;
+    last_links_time_ = estimate_time;
   }
   return clampMagnitude(on_user, scene_.push.max_force);
 }

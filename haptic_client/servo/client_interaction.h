@@ -21,6 +21,12 @@ inline double couplingStiffness(const Scene& scene) {
   return k * scene.workspace_scale;
 }
 
+// The least damper that keeps the push's virtual coupling passive on a device sampled at rate_hz,
+// N s/m: a spring held over a period T gives back up to k T / 2 per (m/s)^2 more than it took, which a
+// damper b >= k T / 2 takes out (Colgate and Schenkel 1997). Scale-free: the device renders k and b
+// times the same workspace scale and stiffness share.
+inline double couplingMinDamping(const Scene& scene, double rate_hz) { return scene.push.k_p / (2.0 * rate_hz); }
+
 class ClientInteraction {
  public:
   explicit ClientInteraction(const ResolvedScene& resolved);
@@ -37,8 +43,10 @@ class ClientInteraction {
   // estimate `links` (every frame's world pose) at simulated time `estimate_time`. A push is the
   // spring between the tip and its proxy, which rests on the surface: on something that moves it is
   // eq. (3)'s reaction, on the ground or a solid obstacle a wall.
+  // link_velocities: every frame's velocity in the estimate (frameVelocities), for the coupling's damper;
+  // null: the touched point's from the last two estimates.
   Vector3 userForce(const std::vector<SE3>& links, double estimate_time, const Vector3& tip,
-                    const Vector3& tip_velocity);
+                    const Vector3& tip_velocity, const std::vector<Motion>* link_velocities = nullptr);
   // Guards: start-up guard, loss ramp, resync blend (after `resynced`), the
   // passivity controller (on the tip's velocity), clamp, and last the
   // per-cycle bound: whatever the path, the force reaching the hand changes
@@ -92,6 +100,9 @@ class ClientInteraction {
   int contact_frame_ = -1;
   Vector3 last_force_ = Vector3::Zero(), last_attach_ = Vector3::Zero(), attach_velocity_ = Vector3::Zero();
   double last_attach_time_ = -1.0;
+  // The estimate the last call saw, and when: the touched surface's velocity for the coupling's damper.
+  std::vector<SE3> last_links_;
+  double last_links_time_ = -1.0;
   InteractionInput input_;
   double max_force_step_ = 0.0;
   int64_t slew_limited_ = 0;

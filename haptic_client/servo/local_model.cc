@@ -33,7 +33,7 @@ void LocalModel::kinematicStep(double h) {
 }
 
 bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to,
-                     std::vector<SE3>& links) {
+                     std::vector<SE3>& links, std::vector<Motion>* velocities) {
   last_steps_ = 0;
   int64_t first = -1;
   for (int64_t s = std::max(from + 1, to - SentInputs::kCapacity + 1); s <= to; ++s)
@@ -62,6 +62,10 @@ bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t
   sim_.setState(t, q_, v_, qdd_, false);
   const std::vector<SE3>& poses = sim_.linkPoses();
   std::copy(poses.begin(), poses.end(), links.begin());
+  if (velocities) {
+    const std::vector<Motion>& w = sim_.linkVelocities();
+    std::copy(w.begin(), w.end(), velocities->begin());
+  }
   return true;
 }
 

@@ -45,7 +45,9 @@ class LocalModel {
   // The robot after the inputs (from, to] (seqs) applied to `state`, one step
   // each (at most max_steps; beyond, carried kinematically). false when none
   // of them interacts: then the caller's kinematic prediction is as good.
-  bool run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to, std::vector<SE3>& links);
+  // velocities (optional): every link's velocity there, world axes.
+  bool run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to, std::vector<SE3>& links,
+           std::vector<Motion>* velocities = nullptr);
   int lastSteps() const { return last_steps_; }
 
  private:

@@ -11,13 +11,15 @@
 namespace igms {
 
 ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus& bus, StateEstimate& estimate,
-                     std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config)
+                     std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config, ServoRecord* record)
     : config_(config), period_(1.0 / config.rate_hz), sim_dt_(scene.scene.dt),
       render_limits_{device.limits().max_force, device.limits().max_force_step, config.passivity,
                      config.passivity_tolerance,
                      stiffnessScale(device.limits().max_stiffness, couplingStiffness(scene.scene))},
       device_limits_(device.limits()), map_{scene.scene.workspace_scale, scene.scene.workspace_offset}, device_(device),
-      bus_(bus), estimate_(estimate), links_(links), stats_(stats), interaction_(scene) {
+      bus_(bus), estimate_(estimate), links_(links), stats_(stats), record_(record && record->on() ? record : nullptr),
+      interaction_(scene) {
+  link_velocities_.assign(links.size(), Motion::Zero());
   msg_.client_id = config.client_id;
   msg_.tip_radius = scene.scene.push.tip_radius;
   if (estimate.policy() == FallbackPolicy::Predict)
@@ -153,12 +155,12 @@ double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
                       k - newest.input_seq < SentInputs::kCapacity;
   const double horizon = echoes ? static_cast<double>(k - newest.input_seq) * sim_dt_ : age;
   estimate_time_ = newest.sim_time + horizon;
-  if (local_ && echoes && local_->run(newest, sent_inputs_, newest.input_seq, k, links_)) {
+  if (local_ && echoes && local_->run(newest, sent_inputs_, newest.input_seq, k, links_, &link_velocities_)) {
     if (!on_time) ++stats_.fallbacks;
     return horizon;
   }
   bool fallback = false;
-  estimate_.estimate(estimate_time_, links_, &fallback);
+  estimate_.estimate(estimate_time_, links_, &fallback, &link_velocities_);
   if (fallback && !on_time) ++stats_.fallbacks;  // rendered without this cycle's reply
   return horizon;
 }
@@ -187,7 +189,9 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   const bool lost = server_lost || device_lost;
   if (lost) interaction_.disengagePush();
   const Vector3 on_user =
-      estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity) : Vector3::Zero();
+      estimate_.any() ? interaction_.userForce(links_, estimate_time_, tip, tip_velocity,
+                                               estimate_.hasModel() ? &link_velocities_ : nullptr)
+                      : Vector3::Zero();
   const Vector3 rendered = interaction_.render(on_user, tip_velocity, lost, resync_, period_, render_limits_);
   resync_ = false;
   const Vector3 torque = interaction_.renderTorque(interaction_.userTorque(), period_, device_limits_.max_torque,
@@ -205,6 +209,9 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   stats_.force_scale = interaction_.forceScale();
   for (int i = 0; i < 3; ++i) stats_.force[i] = rendered[i];
   stats_.state_age_ms = age_ms;
+  if (record_)
+    record_->add(ServoRecordRow{static_cast<double>(k - 1) * period_, estimate_time_, msg_.mode, tip,
+                                interaction_.proxy().position(), on_user, rendered});
 }
 
 }  // namespace igms

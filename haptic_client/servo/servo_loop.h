@@ -27,6 +27,7 @@
 #include "haptic_client/servo/client_bus.h"
 #include "haptic_client/servo/client_interaction.h"
 #include "haptic_client/servo/local_model.h"
+#include "haptic_client/servo/servo_record.h"
 #include "haptic_client/servo/servo_stats.h"
 
 namespace igms {
@@ -48,8 +49,9 @@ struct ServoConfig {
 class ServoLoop {
  public:
   // links: the estimate's link poses, which the device may read (scripted link targets).
+  // record: where each cycle's tip and forces go (null, or one that is off: nowhere).
   ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus& bus, StateEstimate& estimate,
-            std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config);
+            std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config, ServoRecord* record = nullptr);
   // Runs until stopped, the duration, or the end of the device's script. Returns the wall time, s.
   double run(const std::atomic<bool>& stop);
 
@@ -74,7 +76,9 @@ class ServoLoop {
   ClientBus& bus_;
   StateEstimate& estimate_;
   std::vector<SE3>& links_;
+  std::vector<Motion> link_velocities_;  // the estimate's, for the coupling's damper
   ServoStats& stats_;
+  ServoRecord* record_;
   ClientInteraction interaction_;
   SentInputs sent_inputs_;
   std::unique_ptr<LocalModel> local_;  // with the predict policy

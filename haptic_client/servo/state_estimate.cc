@@ -48,7 +48,8 @@ StateEstimate::StateEstimate(int nlinks, int nq, FallbackPolicy policy) : policy
 
 StateEstimate::StateEstimate(const Model& model, FallbackPolicy policy, double max_prediction_s)
     : policy_(policy), model_(&model), max_prediction_(max_prediction_s), data_(std::make_unique<Data>(model)),
-      q_(VectorX::Zero(model.nq)), v_(VectorX::Zero(model.nv)), q_ahead_(VectorX::Zero(model.nq)) {
+      q_(VectorX::Zero(model.nq)), v_(VectorX::Zero(model.nv)), q_ahead_(VectorX::Zero(model.nq)),
+      v_end_(VectorX::Zero(model.nv)) {
   for (auto& s : s_) {
     s.links.assign(model.frames.size(), SE3::Identity());
     s.q.assign(static_cast<size_t>(model.nq), 0.0);
@@ -82,15 +83,21 @@ bool StateEstimate::offer(const RobotSample& in, double received) {
   return true;
 }
 
-bool StateEstimate::estimate(double t, std::vector<SE3>& links, bool* used_fallback) {
+bool StateEstimate::estimate(double t, std::vector<SE3>& links, bool* used_fallback,
+                             std::vector<Motion>* velocities) {
   if (count_ == 0) return false;
   const RobotSample& b = s_[newest_];
   const RobotSample& a = s_[1 - newest_];
   const bool late = t > b.sim_time + 1e-9;
   if (used_fallback) *used_fallback = late;
+  if (!model_) velocities = nullptr;
+  if (policy_ == FallbackPolicy::Predict && late) {
+    predict(b, std::min(t - b.sim_time, max_prediction_), links, velocities);
+    return true;
+  }
+  if (velocities) velocitiesAt(b, *velocities);
   if (policy_ == FallbackPolicy::Predict) {
-    if (late) predict(b, std::min(t - b.sim_time, max_prediction_), links);
-    else std::copy(b.links.begin(), b.links.end(), links.begin());
+    std::copy(b.links.begin(), b.links.end(), links.begin());
     return true;
   }
   const bool two = count_ >= 2 && b.sim_time > a.sim_time;
@@ -114,7 +121,8 @@ bool StateEstimate::estimate(double t, std::vector<SE3>& links, bool* used_fallb
   return true;
 }
 
-void StateEstimate::predict(const RobotSample& b, double h, std::vector<SE3>& links) {
+void StateEstimate::predict(const RobotSample& b, double h, std::vector<SE3>& links,
+                            std::vector<Motion>* velocities) {
   for (int i = 0; i < model_->nq; ++i) q_[i] = b.q[static_cast<size_t>(i)];
   // The mean velocity over [0, h] under constant acceleration: v + qdd h / 2.
   for (int i = 0; i < model_->nv; ++i)
@@ -122,6 +130,16 @@ void StateEstimate::predict(const RobotSample& b, double h, std::vector<SE3>& li
   integrateConfiguration(*model_, q_, v_, h, q_ahead_);
   forwardKinematics(*model_, *data_, q_ahead_);
   for (size_t f = 0; f < links.size(); ++f) links[f] = data_->oMf[f];
+  if (!velocities) return;
+  for (int i = 0; i < model_->nv; ++i) v_end_[i] = b.v[static_cast<size_t>(i)] + h * b.qdd[static_cast<size_t>(i)];
+  frameVelocities(*model_, *data_, v_end_, *velocities);
+}
+
+void StateEstimate::velocitiesAt(const RobotSample& b, std::vector<Motion>& velocities) {
+  for (int i = 0; i < model_->nq; ++i) q_[i] = b.q[static_cast<size_t>(i)];
+  for (int i = 0; i < model_->nv; ++i) v_end_[i] = b.v[static_cast<size_t>(i)];
+  bodyKinematics(*model_, *data_, q_);
+  frameVelocities(*model_, *data_, v_end_, velocities);
 }
 
 }  // namespace igms

@@ -58,7 +58,10 @@ class StateEstimate {
   bool offer(const RobotSample& s, double received = 0.0);
   // The estimate for simulated time t (s), by the policy. Returns false before
   // any state. used_fallback: the newest state was older than t.
-  bool estimate(double t, std::vector<SE3>& links, bool* used_fallback);
+  // velocities (with the model only; else left alone): every link's velocity in the estimate, world axes
+  // (the predicted state's, or the newest state's for the other policies).
+  bool estimate(double t, std::vector<SE3>& links, bool* used_fallback, std::vector<Motion>* velocities = nullptr);
+  bool hasModel() const { return model_ != nullptr; }
 
   bool any() const { return count_ > 0; }
   const RobotSample& newest() const { return s_[newest_]; }
@@ -66,13 +69,15 @@ class StateEstimate {
   FallbackPolicy policy() const { return policy_; }
 
  private:
-  void predict(const RobotSample& b, double h, std::vector<SE3>& links);
+  void predict(const RobotSample& b, double h, std::vector<SE3>& links, std::vector<Motion>* velocities);
+  // The newest state's link velocities (its q placed anew).
+  void velocitiesAt(const RobotSample& b, std::vector<Motion>& velocities);
 
   FallbackPolicy policy_;
   const Model* model_ = nullptr;
   double max_prediction_ = 0.1;
   std::unique_ptr<Data> data_;  // forward kinematics of the prediction
-  VectorX q_, v_, q_ahead_;
+  VectorX q_, v_, q_ahead_, v_end_;
   RobotSample s_[2];
   double received_[2] = {0.0, 0.0};
   int newest_ = 0, count_ = 0;

@@ -40,6 +40,23 @@ TEST(SessionDescription, CarriesTheModelFileByteForByte) {
   EXPECT_EQ(back.robots[0].model_text, file);
 }
 
+// The push coupling's damper came with igms 0.2: a log of an older server re-simulates with its
+// pushes as they were, eq. (3)'s spring alone; this build's logs keep their scene's damper.
+TEST(SessionDescription, ALogFromBeforeTheCouplingDamperReplaysWithout) {
+  EXPECT_TRUE(predatesCouplingDamper("igms 0.1.0 (151cbe82217f-dirty)"));
+  EXPECT_TRUE(predatesCouplingDamper(""));
+  EXPECT_FALSE(predatesCouplingDamper("igms 0.2.0 (4ceb0cf)"));
+  EXPECT_FALSE(predatesCouplingDamper("igms 1.0.3 (abc)"));
+  Simulation sim(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
+  ASSERT_GT(sim.scene().push.b, 0.0) << "the scene's default damper";
+  RecordedSession session;
+  session.has_info = true;
+  session.info = describeSession(sim, "lockstep");
+  EXPECT_EQ(recordedScene(session, sourceDir()).push.b, sim.scene().push.b) << session.info.build_version;
+  session.info.build_version = "igms 0.1.0 (151cbe82217f)";
+  EXPECT_EQ(recordedScene(session, sourceDir()).push.b, 0.0);
+}
+
 TEST(SessionDescription, HashesTheMeshesAndAReplayNamesTheOnesThatDiffer) {
   if (!std::filesystem::exists(sourceDir() + "/third_party/example-robot-data/robots/panda_description"))
     GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";

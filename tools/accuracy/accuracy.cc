@@ -127,7 +127,9 @@ Scene hapticScene(const Case& c, Method method, double h) {
   const std::string yaml = "name: " + c.name + "\nrobot: {model: " + c.model_path + "}\ninitial: {q: " + list(c.q0) +
                            ", v: " + list(c.v0) + "}\ninteraction:\n" + hand + "simulation: {integrator: " +
                            methodName(method) + ", dt: " + buf + ", joint_damping: false, joint_limits: false}\n";
-  return parseScene(yaml, c.name + " (igms-accuracy)", ".");
+  Scene s = parseScene(yaml, c.name + " (igms-accuracy)", ".");
+  s.push.b = 0.0;  // eq. (3) alone, as the independent truth writes it: a probe held still, no device to keep passive
+  return s;
 }
 
 }  // namespace

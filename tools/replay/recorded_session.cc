@@ -1,6 +1,7 @@
 #include "tools/replay/recorded_session.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "channels.h"
@@ -42,6 +43,12 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events) {
   return out;
 }
 
+bool predatesCouplingDamper(const std::string& build_version) {
+  int major = 0, minor = 0;
+  if (std::sscanf(build_version.c_str(), "igms %d.%d", &major, &minor) != 2) return true;  // older still: no version
+  return major == 0 && minor < 2;
+}
+
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir) {
   // An absolute scene path (the server started with one) stands on its own; a relative one was relative to
   // the server's working directory, base_dir. The files the scene reads come from the log when it carries
@@ -55,6 +62,7 @@ Scene recordedScene(const RecordedSession& session, const std::string& base_dir)
     for (const robot_files_t& r : session.files.robots)
       if (!r.trajectory_path.empty()) files[r.trajectory_path] = r.trajectory_text;
   Scene scene = parseScene(info.scene_text, info.scene_path, dir.empty() ? "." : dir.string(), &files);
+  if (predatesCouplingDamper(info.build_version)) scene.push.b = 0.0;  // its pushes were eq. (3)'s spring alone
   if (session.has_files) {
     for (size_t k = 0; k < scene.robots.size() && k < session.files.robots.size(); ++k) {
       const robot_files_t& r = session.files.robots[k];

@@ -39,6 +39,9 @@ RecordedSession readRecordedSession(const std::vector<log::Event>& events);
 // Each robot's model and trajectory file are the log's copies when it carries
 // them (the session files: every robot; older logs: the session info's, the
 // first robot's), else read from the disk.
+// A session recorded by igms before 0.2 ("igms 0.1.0 (...)", or no version at all): its pushes had
+// no coupling damper (interaction.coupling), and its scene re-simulates with b = 0, as recorded.
+bool predatesCouplingDamper(const std::string& build_version);
 Scene recordedScene(const RecordedSession& session, const std::string& base_dir);
 
 // The meshes the model names whose files here differ from the recording's

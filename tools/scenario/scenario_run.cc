@@ -63,7 +63,8 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
       break;
     }
     links = sim.linkPoses();
-    const Vector3 on_user = device ? client.userForce(links, sim.time(), tip, tip_velocity) : Vector3::Zero();
+    const Vector3 on_user =
+        device ? client.userForce(links, sim.time(), tip, tip_velocity, &sim.linkVelocities()) : Vector3::Zero();
     RenderLimits limits;
     if (device && device_limits) {
       limits.max_force = device->limits().max_force;
