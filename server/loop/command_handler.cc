@@ -1,6 +1,7 @@
 #include "server/loop/command_handler.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace igms {
 
@@ -35,6 +36,16 @@ CommandResult setGains(const command_t& c, Simulation& sim) {
   const double k_p = c.values[0], k = c.values[1], b = c.values[2];
   if (!(std::isfinite(k_p) && std::isfinite(k) && std::isfinite(b) && k_p > 0 && k > 0 && b >= 0))
     return rejected("SET_GAINS: k_p and k must be positive, b non-negative, all finite");
+  // The push's virtual coupling stays passive only while its damper holds the stiffer spring: b >= k_p T / 2.
+  const Scene& scene = sim.scene();
+  if (scene.push.enabled && k_p > 2.0 * scene.push.b * scene.rate_hz) {
+    char why[200];
+    std::snprintf(why, sizeof why,
+                  "SET_GAINS: push k_p %g N/m is over 2 b / T = %g N/m for the coupling's damper b = %g N s/m "
+                  "(interaction.coupling.b): it would not be passive",
+                  k_p, 2.0 * scene.push.b * scene.rate_hz, scene.push.b);
+    return rejected(why);
+  }
   if (n == 5 && !(std::isfinite(c.values[3]) && std::isfinite(c.values[4]) && c.values[3] >= 0 && c.values[4] >= 0))
     return rejected("SET_GAINS: k_rot and b_rot must be non-negative and finite");
   sim.setGains(k_p, k, b);

@@ -65,6 +65,14 @@ TEST(CommandHandler, UnknownKindsAndInvalidArgumentsAreRejectedWithAReason) {
   EXPECT_FALSE(applyCommand(gains, sim, control).accepted) << "a negative k_rot";
   gains.values = {2000.0, 800.0, 10.0, 30.0, 0.5};
   EXPECT_TRUE(applyCommand(gains, sim, control).accepted) << "the 6-D pull's gains too";
+  // The push coupling's damper (puma_wall's default, 0.01 s x 2000 = 20 N s/m) keeps k_p up to 2 b / T = 40000.
+  gains.nvalues = 3;
+  gains.values = {40000.0, 800.0, 10.0};
+  EXPECT_TRUE(applyCommand(gains, sim, control).accepted);
+  gains.values = {40001.0, 800.0, 10.0};
+  const CommandResult stiff = applyCommand(gains, sim, control);
+  EXPECT_FALSE(stiff.accepted);
+  EXPECT_NE(stiff.message.find("would not be passive"), std::string::npos) << stiff.message;
   EXPECT_FALSE(applyCommand(command(command_t::LOAD_SCENE), sim, control).accepted) << "no file";
   EXPECT_FALSE(control.reload);
   EXPECT_TRUE(control.running);
