@@ -13,13 +13,15 @@ import argparse
 import csv
 import json
 import os
-import signal
 import subprocess
 import sys
 import time
 
 import numpy as np
 import yaml
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from processes import stop_all  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TRUTH = os.path.join(ROOT, "scenes", "truth")
@@ -54,14 +56,15 @@ def in_process(build, case, hand, out):
     return s
 
 
-def over_bus(build, case, hand, delay, out, port):
-    """Server (realtime) <- relay (delay each way) <- client (--record); returns the client's record."""
+def over_bus(build, case, hand, delay, out, port, client_args=(), return_log=False):
+    """Server (realtime) <- relay (delay each way) <- client (--record); returns the client's record (and its
+    stderr with return_log)."""
     script = os.path.join(TRUTH, case["scripts"][hand])
-    scene = os.path.join(TRUTH, case["scene"])
+    scene = os.path.join(TRUTH, case["scene"])  # an absolute scene path stands as it is
     server_url = f"udpm://239.255.76.67:{port}?ttl=0"
     client_url = f"udpm://239.255.76.67:{port + 1}?ttl=0"
-    path = os.path.join(out, f"{case['name']}_{hand}_{delay}ms.csv")
-    log = open(os.path.join(out, f"{case['name']}_{hand}_{delay}ms.log"), "w")
+    path = os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.csv")
+    log = open(os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.log"), "w")
     procs = []
     try:
         procs.append(subprocess.Popen([f"{build}/server/igms-server", "--scene", scene, "--lcm-url", server_url,
@@ -71,22 +74,16 @@ def over_bus(build, case, hand, delay, out, port):
                                       stdout=subprocess.DEVNULL, stderr=log))
         time.sleep(0.3)
         client = subprocess.run([f"{build}/haptic_client/igms-haptic", "--scene", scene, "--device",
-                                 "scripted:" + script, "--lcm-url", client_url, "--record", path],
+                                 "scripted:" + script, "--lcm-url", client_url, "--record", path] + list(client_args),
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
         log.write(client.stderr)
         if client.returncode != 0:
             raise RuntimeError(f"igms-haptic exited {client.returncode}: {client.stderr[-600:]}")
     finally:
-        for p in reversed(procs):
-            p.send_signal(signal.SIGTERM)
-            try:
-                p.wait(10)
-            except subprocess.TimeoutExpired:
-                p.kill()
-                p.wait()
+        stop_all(procs)
     s = read_series(path, {"force": ["rendered_x", "rendered_y", "rendered_z"], "tip": ["tip_x", "tip_y", "tip_z"],
                            "proxy": ["proxy_x", "proxy_y", "proxy_z"]})
-    return s
+    return (s, client.stderr) if return_log else s
 
 
 def measure(case, s):

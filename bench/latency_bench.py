@@ -15,13 +15,15 @@ import csv
 import json
 import os
 import re
-import signal
 import subprocess
 import sys
 import time
 
 import numpy as np
 import yaml
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from processes import stop_all  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = {"push": "scenes/puma_obstacle.yaml", "pull": "scenes/puma_obstacle.yaml", "box": "scenes/table_clear.yaml"}
@@ -70,13 +72,7 @@ def run_case(args, exp, delay, jitter, loss, port):
                                  str(args.seconds)] + args.client_args, capture_output=True, text=True, timeout=120)
         open(os.path.join(out, "client.log"), "w").write(client.stderr)
     finally:
-        for p in reversed(procs):
-            p.send_signal(signal.SIGTERM)
-            try:
-                p.wait(10)
-            except subprocess.TimeoutExpired:
-                p.kill()
-            time.sleep(0.2)
+        stop_all(procs, pause=0.2)
     subprocess.run([f"{b}/tools/igms-replay", "export", log, os.path.join(out, "export")], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return name, out, client.stderr
