@@ -8,7 +8,10 @@
 namespace igms {
 
 LocalModel::LocalModel(const ResolvedScene& scene, int max_steps)
-    : sim_(scene), max_steps_(max_steps), q_(VectorX::Zero(scene.model->nq)), v_(VectorX::Zero(scene.model->nv)),
+    : sim_(scene), max_steps_(max_steps),
+      environment_(std::any_of(scene.model->parts.begin(), scene.model->parts.end(),
+                               [](const ModelPart& p) { return p.free_body; })),
+      q_(VectorX::Zero(scene.model->nq)), v_(VectorX::Zero(scene.model->nv)),
       qdd_(VectorX::Zero(scene.model->nv)), q_next_(VectorX::Zero(scene.model->nq)),
       v_mid_(VectorX::Zero(scene.model->nv)) {}
 
@@ -41,7 +44,8 @@ bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t
       first = s;
       break;
     }
-  if (first < 0) return false;
+  if (first < 0 && !environment_) return false;
+  if (environment_) first = std::max(from + 1, to - SentInputs::kCapacity + 1);  // bodies and contacts throughout
   const double dt = sim_.scene().dt;
   const int nq = sim_.model().nq, nv = sim_.model().nv;
   for (int i = 0; i < nq; ++i) q_[i] = state.q[static_cast<size_t>(i)];
@@ -53,8 +57,10 @@ bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t
   for (; s < first; ++s, t += dt) kinematicStep(dt);
   sim_.setState(t, q_, v_, qdd_, state.mode != 0);
   // Then the server's step itself, input by input.
-  for (; s <= to && last_steps_ < max_steps_; ++s, ++last_steps_)
+  for (; s <= to && last_steps_ < max_steps_; ++s, ++last_steps_) {
     if (!sim_.step(&inputs.at(s))) break;
+    max_penetration_ = std::max(max_penetration_, sim_.contacts().maxPenetration());
+  }
   q_ = sim_.q();
   v_ = sim_.v();
   qdd_ = sim_.qdd();

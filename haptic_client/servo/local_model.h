@@ -5,8 +5,11 @@
 // controller, the coupling of eq. 3 / eq. 4, the scene's integrator) under
 // the inputs the server has not applied yet. So the robot gives way to the
 // hand at once, whatever the delay, and each new server state re-bases it.
-// Stretches without interaction are carried kinematically (q + v h + qdd h^2/2):
-// the trajectory the server follows after an edit is its own.
+// A scene of robots alone carries stretches without interaction kinematically
+// (q + v h + qdd h^2/2): the trajectory the server follows after an edit is its own.
+// A scene with free bodies runs its step between interactions as during them
+// (bodies, contacts, the hand's proxy): a ball falling onto the table lands on it
+// in the estimate too, instead of being carried into it for the round trip.
 // Built once (allocates); run() does not allocate.
 #pragma once
 
@@ -44,17 +47,23 @@ class LocalModel {
 
   // The robot after the inputs (from, to] (seqs) applied to `state`, one step
   // each (at most max_steps; beyond, carried kinematically). false when none
-  // of them interacts: then the caller's kinematic prediction is as good.
+  // of them interacts in a scene without free bodies: then the caller's
+  // kinematic prediction is as good.
   // velocities (optional): every link's velocity there, world axes.
   bool run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to, std::vector<SE3>& links,
            std::vector<Motion>* velocities = nullptr);
   int lastSteps() const { return last_steps_; }
+  // The deepest overlap of two things in contact at the start of any step this model took (m): how far
+  // its estimate put a body inside another.
+  double maxPenetration() const { return max_penetration_; }
 
  private:
   void kinematicStep(double h);
 
   Simulation sim_;
   const int max_steps_;
+  const bool environment_;  // free bodies: every stretch is stepped
+  double max_penetration_ = 0.0;
   VectorX q_, v_, qdd_, q_next_, v_mid_;
   int last_steps_ = 0;
 };

@@ -156,6 +156,9 @@ double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
   const double horizon = echoes ? static_cast<double>(k - newest.input_seq) * sim_dt_ : age;
   estimate_time_ = newest.sim_time + horizon;
   if (local_ && echoes && local_->run(newest, sent_inputs_, newest.input_seq, k, links_, &link_velocities_)) {
+    stats_.local_steps = local_->lastSteps();
+    stats_.local_runs.fetch_add(1, std::memory_order_relaxed);
+    stats_.local_max_penetration = local_->maxPenetration();
     if (!on_time) ++stats_.fallbacks;
     return horizon;
   }

@@ -114,6 +114,10 @@ struct ServoStats {
   std::atomic<double> torque[3] = {0, 0, 0};  // N m rendered (a 6-dof device's 6-D pull)
   std::atomic<int64_t> phase_shifts{0};        // the loop's phase moved after another hand's (servo_loop.cc)
   std::atomic<int64_t> blocked_reads{0};       // device reads over ServoConfig::blocked_read_ms: the force ramped out
+  // The local model (predict): the steps of its last run, and the deepest overlap its estimate put two things in, m.
+  std::atomic<int> local_steps{0};
+  std::atomic<int64_t> local_runs{0};
+  std::atomic<double> local_max_penetration{0};
   std::atomic<bool> lost{false}, device_lost{false}, finished{false};
   SampleRing jitter, rtt, age_us;
   Histogram rtt_all{10.0};  // 10 us bins: round trips up to 200 ms
