@@ -1,5 +1,7 @@
 #include "haptic_client/servo/client_interaction.h"
 
+#include <algorithm>
+
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
 #include "core/simulation/touch_world_of.h"
@@ -8,7 +10,8 @@ namespace igms {
 
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),
-      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_, r.scene.push.friction) {}
+      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_, r.scene.push.friction),
+      last_links_(r.model->frames.size()) {}
 
 void ClientInteraction::setAttachment(int frame, const Vector3& point) {
   if (pull_frame_ < 0) return;  // pull is off in this scene
@@ -122,7 +125,7 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   // that surface point's velocity in the estimate, as the server's does against the robot's.
   const Vector3 stretch = proxy_.stretch(tip);
   const double dt = estimate_time - last_links_time_;
-  const bool moved = dt > 1e-9 && last_links_.size() == links.size();
+  const bool moved = last_links_time_ >= 0.0 && dt > 1e-9;
   const int k = proxy_.deepest(world_, tip, true);
   if (k >= 0) {
     touching_ = true;
@@ -152,8 +155,8 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
       on_user += (std::max(0.0, normal - scene_.push.b * tip_velocity.dot(n)) - normal) * n;
     }
   }
-  if (moved || last_links_.size() != links.size()) {
-    last_links_ = links;
+  if (!link_velocities && (moved || last_links_time_ < 0.0)) {  // the differences' last estimate
+    std::copy(links.begin(), links.end(), last_links_.begin());
     last_links_time_ = estimate_time;
   }
   return clampMagnitude(on_user, scene_.push.max_force);

@@ -11,6 +11,7 @@
 #include "haptic_client/servo/client_interaction.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
+#include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
 #include "tools/scenario/scenario_run.h"
 
@@ -107,6 +108,35 @@ TEST(VirtualCoupling, TheClientRendersTheDamperAgainstTheEstimatesMotion) {
     ASSERT_GT(depth, 0.0);
     EXPECT_NEAR(felt.x(), -(3000 * depth + 30 * (v_tip - v_box)), 1e-9) << "4 cm/s closing; velocities given: " << given;
     EXPECT_NEAR(felt.y(), 0.0, 1e-12);
+  }
+}
+
+// The servo loop's side of it allocates nothing: the damper against given velocities or differences.
+TEST(VirtualCoupling, TheClientsCouplingAllocatesNothing) {
+  const ResolvedScene resolved = resolveScene(
+      boxScene("  push: {k_p: 3000, max_force: 40, tip_radius: 0.01}\n  coupling: {b: 30}\n"));
+  Simulation sim(resolved);
+  std::vector<SE3> links = sim.linkPoses();
+  const std::vector<Motion> velocities(links.size());
+  for (const bool given : {true, false}) {
+    ClientInteraction client(resolved);
+    haptic_input_t msg{};
+    msg.contact_link.reserve(64);
+    msg.attach_link.reserve(64);
+    int k = 0;
+    auto cycle = [&] {
+      const Vector3 tip(-0.1 - 0.01 + 0.001 * std::min(1.0, 0.01 * k), 0, 0.1);
+      client.fillInput(tip, Vector3(0.01, 0, 0), 0, msg);
+      client.render(client.userForce(links, 0.001 * k, tip, Vector3(0.01, 0, 0), given ? &velocities : nullptr),
+                    Vector3(0.01, 0, 0), false, false, 0.001, RenderLimits{});
+      ++k;
+    };
+    for (int i = 0; i < 5; ++i) cycle();  // warm
+    EXPECT_EQ(test::allocationsDuring([&] {
+                for (int i = 0; i < 200; ++i) cycle();
+              }),
+              0u)
+        << "velocities given: " << given;
   }
 }
 
