@@ -38,14 +38,13 @@ void LocalModel::kinematicStep(double h) {
 bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to,
                      std::vector<SE3>& links, std::vector<Motion>* velocities) {
   last_steps_ = 0;
-  int64_t first = -1;
-  for (int64_t s = std::max(from + 1, to - SentInputs::kCapacity + 1); s <= to; ++s)
-    if (inputs.at(s).mode != InteractionMode::None) {
-      first = s;
-      break;
-    }
-  if (first < 0 && !environment_) return false;
-  if (environment_) first = std::max(from + 1, to - SentInputs::kCapacity + 1);  // bodies and contacts throughout
+  // The first step taken by the model: with free bodies, the first input kept (bodies and contacts
+  // throughout); else the first that interacts.
+  const int64_t oldest = std::max(from + 1, to - SentInputs::kCapacity + 1);
+  int64_t first = environment_ ? oldest : -1;
+  for (int64_t s = oldest; first < 0 && s <= to; ++s)
+    if (inputs.at(s).mode != InteractionMode::None) first = s;
+  if (first < 0) return false;
   const double dt = sim_.scene().dt;
   const int nq = sim_.model().nq, nv = sim_.model().nv;
   for (int i = 0; i < nq; ++i) q_[i] = state.q[static_cast<size_t>(i)];
