@@ -106,12 +106,10 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
 
 // Each pair's rows: their Jacobian on the pair's chains, X = L^-T J^T there, its own W block, its
 // velocities and targets.
-int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
+int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
                        const VectorX& v) {
   data_ = &data;
   const int nc = contacts.n;
-  const int nv = model_.nv;
-  const double* const ld = LD.data();
   const double bounce_velocity = cm_.settings().bounce_velocity;
   std::fill(tree_count_.begin(), tree_count_.end(), 0);
   int ng = 0, entry = 0, value = 0;
@@ -180,7 +178,7 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
         s = 0.0;
       }
       dof_[static_cast<size_t>(entry + count)] = k;
-      invD_[static_cast<size_t>(entry + count)] = 1.0 / ld[static_cast<std::ptrdiff_t>(k) * nv + k];
+      invD_[static_cast<size_t>(entry + count)] = 1.0 / LD.diagonal(k);
       sign[count] = s;
       ++count;
     }
@@ -231,11 +229,9 @@ int ContactRows::build(const Data& data, const MatrixX& LD, const ContactSet& co
   return ng;
 }
 
-void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
+void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) {
   ContactGroup& g = groups_[static_cast<size_t>(gi)];
   if (g.complete) return;
-  const int nv = model_.nv;
-  const double* const ld = LD.data();
   const int P = g.points;
   // The friction rows of J (at the point, or the patch's centroid; a torsion row [0; n]) and their
   // velocities under v_free.
@@ -273,7 +269,7 @@ void ContactRows::complete(int gi, const MatrixX& LD, const VectorX& v_free) {
   }
   std::copy(J_.begin() + g.first_value, J_.begin() + g.first_value + g.rows * g.entries, X_.begin() + g.first_value);
   for (int e = g.entries - 1; e >= 0; --e) {
-    const double* const lk = ld + static_cast<std::ptrdiff_t>(dof_[static_cast<size_t>(g.first_entry + e)]) * nv;
+    const double* const lk = LD.column(dof_[static_cast<size_t>(g.first_entry + e)]);
     for (int r = 0; r < g.rows; ++r) {
       double* const X = X_.data() + g.first_value + r * g.entries;
       const double xk = X[e];
@@ -368,9 +364,7 @@ void ContactRows::coupling(const ContactGroup& g, const ContactGroup& h, Contact
   }
 }
 
-void ContactRows::apply(const MatrixX& LD, VectorX& z, VectorX& v) {
-  const int nv = model_.nv;
-  const double* const ld = LD.data();
+void ContactRows::apply(const TreeMatrix& LD, VectorX& z, VectorX& v) {
   std::fill(tree_touched_.begin(), tree_touched_.end(), 0);
   for (int gi = 0; gi < ngroups_; ++gi) {
     const ContactGroup& g = groups_[static_cast<size_t>(gi)];
@@ -383,7 +377,7 @@ void ContactRows::apply(const MatrixX& LD, VectorX& z, VectorX& v) {
     if (!tree_touched_[t]) continue;
     const ModelPart& part = model_.parts[t];
     for (int k = part.dof_begin; k < part.dof_end; ++k) {
-      const double* const lk = ld + static_cast<std::ptrdiff_t>(k) * nv;
+      const double* const lk = LD.column(k);
       double sum = 0.0;
       forEachAncestorRun(model_.dof_parent, model_.dof_run_start, model_.dof_parent[k], [&](int s, int j) {
         for (int t2 = s; t2 <= j; ++t2) sum += lk[t2] * z[t2];

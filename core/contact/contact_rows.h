@@ -75,11 +75,11 @@ class ContactRows {
   // kept until the solve ends), A's diagonal from its factors LD (ltdl.h), their velocities
   // b = J v_free (h, v0: the start velocity), targets and bounces. \return the number of groups. None
   // is in the solve until complete().
-  int build(const Data& data, const MatrixX& LD, const ContactSet& contacts, double h, const VectorX& v0,
+  int build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
             const VectorX& v_free);
   // Group g's friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and
   // its friction block: in the solve from now on.
-  void complete(int g, const MatrixX& LD, const VectorX& v_free);
+  void complete(int g, const TreeMatrix& LD, const VectorX& v_free);
   // Every point of g apart and not closing under v_free within the step (gap + h J v_free > 0), no
   // bounce: a pair the solve may leave out while its impulse is zero (checked after it: a pair that
   // the others' impulses push across is let in, and the solve taken again).
@@ -102,7 +102,7 @@ class ContactRows {
   void coupling(const ContactGroup& g, const ContactGroup& h, ContactBlock& W) const;
   // v += L^-1 z on every tree a group touches (z = D^-1 sum X lambda: v += A^-1 J^T lambda); z is
   // left zero.
-  void apply(const MatrixX& LD, VectorX& z, VectorX& v);
+  void apply(const TreeMatrix& LD, VectorX& z, VectorX& v);
   // The normal speed of point k of g under v (J_k v).
   double normalSpeed(const ContactGroup& g, int k, const VectorX& v) const;
 

@@ -249,7 +249,7 @@ void ContactSolver::capEnergy() {
   ++stats_.energy_capped;
 }
 
-void ContactSolver::solve(const Data& data, const MatrixX& LD, double h, const VectorX& v0, ContactSet& contacts,
+void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, const VectorX& v0, ContactSet& contacts,
                           VectorX& v, VectorX& v_position) {
   if (contacts.n == 0) {
     previous_n_ = 0;

@@ -66,7 +66,7 @@ class ContactSolver {
   // v0: the velocity at the step's start; v: in, v_free; out, v+. factored: A's L^T D L factors
   // (ltdl.h), as the step left them. data: the step's start (S_world from the inertia matrix's
   // pass). v_position: out, what the positions move with. Writes each contact's impulse.
-  void solve(const Data& data, const MatrixX& factored, double h, const VectorX& v0, ContactSet& contacts, VectorX& v,
+  void solve(const Data& data, const TreeMatrix& factored, double h, const VectorX& v0, ContactSet& contacts, VectorX& v,
              VectorX& v_position);
 
   const ContactSolveStats& stats() const { return stats_; }

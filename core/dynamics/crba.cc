@@ -12,20 +12,20 @@
 
 namespace igms {
 
-const MatrixX& crba(const Model& model, Data& data, const VectorX& q) {
+const TreeMatrix& crba(const Model& model, Data& data, const VectorX& q) {
   for (int i = 0; i < model.nb; ++i) placeJoint(model, i, q, data.liMi[i]);
   return crbaAtPlacements(model, data);
 }
 
-const MatrixX& crbaAtPlacements(const Model& model, Data& data) {
+const TreeMatrix& crbaAtPlacements(const Model& model, Data& data) {
   crbaUpperAtPlacements(model, data);
   // The mirror of the ancestor entries: every other entry is zero in both triangles, and stays so.
   // Column t's lower part is t's descendants, one contiguous range in depth-first order: the
   // stores run down a column (a row's would each touch another cache line).
-  MatrixX& H = data.H;
+  TreeMatrix& H = data.H;
   for (int t = 0; t < model.nv; ++t) {
-    double* const column = H.col(t).data();
-    for (int c = t + 1; c < model.dof_subtree_end[t]; ++c) column[c] = H(t, c);
+    double* const column = H.column(t);
+    for (int c = t + 1; c < model.dof_subtree_end[t]; ++c) column[c] = H.column(c)[t];
   }
   return H;
 }
@@ -74,14 +74,14 @@ void crbaUpper(const Model& model, Data& data, bool compose_world_poses) {
           if (c < 3) x = r == c ? I.m : 0.0;              // m 1
           else if (r < 3) x = -hx(r, c - 3);               // -[h]x
           else x = I.Io(r - 3, c - 3);                     // Io
-          data.H(v0 + r, v0 + c) = x;
+          data.H.column(v0 + c)[v0 + r] = x;
         }
       continue;
     }
     for (int k = 0; k < model.joint_nv[i]; ++k) {
       const int c = model.v_index[i] + k;
       const Force F = data.Ic[i] * Motion{data.S_world.col(c).head<3>(), data.S_world.col(c).tail<3>()};
-      double* const column = data.H.col(c).data();
+      double* const column = data.H.column(c);
       const double* const S = data.S_world.data();  // 6 per dof: [v; w]
       forEachAncestorRun(model.dof_parent, model.dof_run_start, c, [&](int r, int j) {
         for (int t = r; t <= j; ++t) {

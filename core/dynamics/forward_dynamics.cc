@@ -18,8 +18,8 @@ bool forwardDynamicsAtBias(const Model& model, Data& data, const VectorX& tau, b
   // fill-in stays there): copy those, run by run; on a humanoid half the triangle is zeros.
   const int n = model.nv;
   for (int c = 0; c < n; ++c) {
-    const double* const from = data.H.col(c).data();
-    double* const to = data.Hfact.col(c).data();
+    const double* const from = data.H.column(c);
+    double* const to = data.Hfact.column(c);
     forEachAncestorRun(model.dof_parent, model.dof_run_start, c,
                        [&](int r, int j) { std::copy(from + r, from + j + 1, to + r); });
   }

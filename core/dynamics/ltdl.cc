@@ -10,18 +10,17 @@ namespace igms {
 // Raw columns throughout: the updates are a few entries long, too short for a
 // vector expression's set-up; each run of ancestors is a plain loop.
 
-int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start, MatrixX& H, VectorX& diag) {
-  const int n = static_cast<int>(H.rows());
-  diag = H.diagonal();
-  double* const data = H.data();
+int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag) {
+  const int n = H.size();
+  for (int k = 0; k < n; ++k) diag[k] = H.diagonal(k);
   for (int k = n - 1; k >= 0; --k) {
-    double* const hk = data + static_cast<std::ptrdiff_t>(k) * n;
+    double* const hk = H.column(k);
     const double d = hk[k];
     // A pivot that cancels to round-off of its own diagonal entry is zero.
     if (!std::isfinite(d) || !(d > kSingularPivot * diag[k])) return k;
     // Upper triangle (H(i, k), i an ancestor of k): ancestors walk up a column.
     for (int i = lambda[k]; i >= 0; i = lambda[i]) {
-      double* const hi = data + static_cast<std::ptrdiff_t>(i) * n;
+      double* const hi = H.column(i);
       const double a = hk[i] / d;
       forEachAncestorRun(lambda, run_start, i, [&](int r, int j) {
         for (int t = r; t <= j; ++t) hi[t] -= a * hk[t];
@@ -32,21 +31,20 @@ int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start
   return -1;
 }
 
-void ltdlSolve(const std::vector<int>& lambda, const std::vector<int>& run_start, const MatrixX& LD, VectorX& b) {
+void ltdlSolve(const std::vector<int>& lambda, const std::vector<int>& run_start, const TreeMatrix& LD, VectorX& b) {
   const int n = static_cast<int>(b.size());
-  const double* const data = LD.data();
   double* const x = b.data();
   for (int k = n - 1; k >= 0; --k) {  // L^T z = b
-    const double* const lk = data + static_cast<std::ptrdiff_t>(k) * n;
+    const double* const lk = LD.column(k);
     const double xk = x[k];
     forEachAncestorRun(lambda, run_start, lambda[k], [&](int r, int j) {
       for (int t = r; t <= j; ++t) x[t] -= lk[t] * xk;
     });
   }
-  for (int k = 0; k < n; ++k) x[k] /= data[static_cast<std::ptrdiff_t>(k) * n + k];  // D y = z
+  for (int k = 0; k < n; ++k) x[k] /= LD.diagonal(k);  // D y = z
   for (int k = 0; k < n; ++k) {                                                    // L x = y
     // Two partial sums: one chain of dependent subtractions per dof was the solve's critical path.
-    const double* const lk = data + static_cast<std::ptrdiff_t>(k) * n;
+    const double* const lk = LD.column(k);
     double even = 0.0, odd = 0.0;
     forEachAncestorRun(lambda, run_start, lambda[k], [&](int r, int j) {
       int t = r;

@@ -16,12 +16,12 @@ namespace igms {
 // (below kSingularPivot of its diagonal) or is not finite: H is singular there.
 // run_start[j]: first dof of the run of consecutive ancestors ending at j
 // (Model::dof_run_start). diag: scratch of size nv.
-int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_start, MatrixX& H, VectorX& diag);
+int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag);
 
 // A pivot below this fraction of its original diagonal entry counts as zero.
 constexpr double kSingularPivot = 1e-13;
 
 // Solves H x = b in place (b becomes x) with the factors from ltdlFactor.
-void ltdlSolve(const std::vector<int>& dof_parent, const std::vector<int>& run_start, const MatrixX& LD, VectorX& b);
+void ltdlSolve(const std::vector<int>& dof_parent, const std::vector<int>& run_start, const TreeMatrix& LD, VectorX& b);
 
 }  // namespace igms

@@ -10,7 +10,7 @@
 //   Evaluation makeEvaluation() const;      // sized once (allocates)
 //   void evaluate(const VectorX& q, const VectorX& v, Evaluation& out);
 // and, for the linearly-implicit scheme, right after evaluate(q, v, at):
-//   void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs);
+//   void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs);
 //       A = H + h D + h^2 K, rhs = h (F - h K v), where F = H qdd and
 //       K = -dF/dq, D = -dF/dv of the stiff terms (couplings, joint damping),
 //       symmetric, within H's sparsity; only the upper triangle is read (the
@@ -21,7 +21,7 @@
 //
 // An evaluator with contact (an environment) also has
 //   bool hasContacts() const;
-//   void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
+//   void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position);
 // which the two Euler schemes call after their unconstrained velocity update: v0 the start velocity,
 // v in v_free and out v+, factored the step's matrix (the linearly-implicit A, factored; null: H's),
 // and the positions then move with v_position (integrateContactStep: floating joints on R^3 x SO(3)).
@@ -47,12 +47,12 @@ struct IntegratorScratch {
   template <typename Eval>
   IntegratorScratch(const Model& m, const Eval& f)
       : start(f.makeEvaluation()), stage(f.makeEvaluation()), k2(m.nv), k3(m.nv), v2(m.nv), v3(m.nv),
-        v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m.nv, m.nv), rhs(m.nv), diag(m.nv),
+        v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m), rhs(m.nv), diag(m.nv),
         v_free(m.nv) {}
   Evaluation start;  // f at the step's start state
   Evaluation stage;  // RK4's later stages
   VectorX k2, k3, v2, v3, v4, u, r2, r3, r4, qt;
-  MatrixX A;
+  TreeMatrix A;
   VectorX rhs, diag;
   VectorX v_free;  // the contact solve's input
 };
@@ -75,7 +75,7 @@ struct HasFreeBodies<T, std::void_t<decltype(&T::freeBodies)>> : std::true_type 
 // solve left alone then take their exact step.
 template <typename Eval, typename Scratch>
 void finishEulerStep(const Model& m, Eval& f, VectorX& q, VectorX& v, const VectorX& v_start, double h,
-                     const MatrixX* factored, Scratch& s) {
+                     const TreeMatrix* factored, Scratch& s) {
   FreeBodyMotion* bodies = nullptr;
   if constexpr (HasFreeBodies<Eval>::value) {
     bodies = f.freeBodies();

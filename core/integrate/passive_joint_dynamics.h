@@ -35,8 +35,8 @@ class PassiveJointDynamics {
     out.qdd = d_.qdd;
   }
 
-  void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) const {
-    A.triangularView<Eigen::Upper>() = d_.H;  // forwardDynamics leaves H's upper triangle
+  void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs) const {
+    A.assign(d_.H);  // forwardDynamics leaves H's upper triangle (the lower one is not read)
     rhs = h * at.F;
     for (int i = 0; i < m_.nv; ++i) {
       A(i, i) += h * (damping_ ? m_.damping[i] : 0.0) + h * h * k_;

@@ -6,11 +6,10 @@
 #include <vector>
 
 #include "core/model/model.h"
+#include "core/model/tree_matrix.h"
 
 namespace igms {
 
-using VectorX = Eigen::VectorXd;
-using MatrixX = Eigen::MatrixXd;
 using Matrix6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 
 struct Data {
@@ -32,8 +31,8 @@ struct Data {
   // crba and the factorisation of H (sparse LDL^T along the tree).
   std::vector<SpatialInertia> Ic;  // crba: composite inertia of the subtree, world axes
   Matrix6X S_world;                // crba: motion subspace of every dof, world axes, rows [v; w]
-  MatrixX H;                       // joint-space inertia: crba fills both triangles, forwardDynamics the upper one
-  MatrixX Hfact;                   // L^T D L factors of H, same sparsity
+  TreeMatrix H;                    // joint-space inertia: crba fills both triangles, forwardDynamics the upper one
+  TreeMatrix Hfact;                // L^T D L factors of H, same sparsity
   VectorX qdd;                     // forward dynamics result
   VectorX rhs;                     // forward dynamics scratch
   VectorX diag;                    // factorisation scratch

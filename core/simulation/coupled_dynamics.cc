@@ -43,7 +43,7 @@ void CoupledDynamics::resetContacts() {
   if (solver_) solver_->resetWarmStart();
 }
 
-void CoupledDynamics::constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position) {
+void CoupledDynamics::constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position) {
   solver_->solve(data_, factored ? *factored : data_.Hfact, h, v0, contact_set_, v, v_position);
 }
 
@@ -213,52 +213,51 @@ void CoupledDynamics::subtractHoldDamping(const CoupledInputs& in, const VectorX
     // -c H v on each held robot's block: H is block-diagonal across trees, so H^-1 of it is -c v there.
     for (const DofRange& r : *in.hold) {
       const int n = r.end - r.begin;
-      F.segment(r.begin, n).noalias() -=
-          r.rate * (data_.H.block(r.begin, r.begin, n, n).selfadjointView<Eigen::Upper>() * v.segment(r.begin, n));
+      data_.H.addSymmetricUpperTimes(r.begin, r.end, -r.rate, v, F);
       if (qdd) qdd->segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
     }
   } else if (in.hold_rate > 0.0) {
     // -c H v: H^-1 of it is exactly -c v.
-    F.noalias() -= in.hold_rate * (data_.H.selfadjointView<Eigen::Upper>() * v);
+    data_.H.addSymmetricUpperTimes(0, model_.nv, -in.hold_rate, v, F);
     if (qdd) *qdd -= in.hold_rate * v;
   }
 }
 
 void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h,
-                                   MatrixX& A, VectorX& rhs) {
-  // Upper triangles only, as forwardDynamics leaves H and as ltdlFactor reads A.
-  if (model_.parts.size() > 1) {
-    // An environment: the ancestor entries only (H's others are zero, and stay so in A): a 216-body
-    // pile's dense triangle would be 840 000 entries.
-    const int n = model_.nv;
-    for (int c = 0; c < n; ++c) {
-      const double* const from = data_.H.col(c).data();
-      double* const to = A.col(c).data();
-      forEachAncestorRun(model_.dof_parent, model_.dof_run_start, c,
-                         [&](int r, int j) { std::copy(from + r, from + j + 1, to + r); });
-    }
-  } else {
-    A.triangularView<Eigen::Upper>() = data_.H;
-  }
+                                   TreeMatrix& A, VectorX& rhs) {
+  // Every stored entry of H (ltdlFactor reads the upper triangle's ancestor entries; the others are
+  // zero or, below the diagonal, never read).
+  A.assign(data_.H);
   rhs = h * at.F;
-  if (scene_.joint_damping) A.diagonal() += h * jointDamping(model_);
-  if (in.hold) {
-    for (const DofRange& r : *in.hold) {
-      const int n = r.end - r.begin;
-      A.block(r.begin, r.begin, n, n).triangularView<Eigen::Upper>() +=
-          (h * r.rate) * data_.H.block(r.begin, r.begin, n, n);
+  const int nv = model_.nv;
+  if (scene_.joint_damping) {
+    const auto damping = jointDamping(model_);  // a view: no copy
+    for (int k = 0; k < nv; ++k) A.diagonal(k) += h * damping[k];
+  }
+  // The hold: A += h c H on each held range's upper triangle (its ancestor entries: H's others are zero).
+  auto addHold = [&](int begin, int end, double hc) {
+    for (int c = begin; c < end; ++c) {
+      double* const a = A.column(c);
+      const double* const H = data_.H.column(c);
+      forEachAncestorRun(model_.dof_parent, model_.dof_run_start, c, [&](int r, int j) {
+        for (int t = std::max(r, begin); t <= j; ++t) a[t] += hc * H[t];
+      });
     }
+  };
+  if (in.hold) {
+    for (const DofRange& r : *in.hold) addHold(r.begin, r.end, h * r.rate);
   } else if (in.hold_rate > 0.0) {
-    A.triangularView<Eigen::Upper>() += (h * in.hold_rate) * data_.H;
+    addHold(0, nv, h * in.hold_rate);
   }
   if (in.pd.kp) {
     // The PD's -kp dq - kd dv, implicitly: A += h kd + h^2 kp, rhs -= h^2 kp v.
-    A.diagonal() += h * *in.pd.kd + (h * h) * *in.pd.kp;
-    rhs -= (h * h) * in.pd.kp->cwiseProduct(v);
+    const VectorX &kp = *in.pd.kp, &kd = *in.pd.kd;
+    for (int k = 0; k < nv; ++k) A.diagonal(k) += h * kd[k] + (h * h) * kp[k];
+    rhs -= (h * h) * kp.cwiseProduct(v);
   }
   if (!limits_.empty()) {
     // The limits' -k d - b s, implicitly: A += h b + h^2 k, rhs -= h^2 k v (zero where none acts).
-    A.diagonal() += h * at.limit_b + (h * h) * at.limit_k;
+    for (int k = 0; k < nv; ++k) A.diagonal(k) += h * at.limit_b[k] + (h * h) * at.limit_k[k];
     rhs -= (h * h) * at.limit_k.cwiseProduct(v);
   }
   for (int h_i = 0; h_i < at.ncouplings; ++h_i) {  // each hand's stiffness and damping, summed

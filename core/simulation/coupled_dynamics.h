@@ -124,7 +124,7 @@ class CoupledDynamics {
   void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                 bool step_start = true);
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
-  void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, MatrixX& A,
+  void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, TreeMatrix& A,
                     VectorX& rhs);
   // The couplings' forces a linearly-implicit step applied, from v (its start) to v_end (its end, the
   // contact step's included): the stiff terms are taken at the end of the step, H dv = h (F - h K v+
@@ -135,7 +135,7 @@ class CoupledDynamics {
                         std::array<CouplingForce, kMaxHands>& applied) const;
   // The contact step (contact_solver.h) after the unconstrained update: v holds v_free and becomes v+;
   // factored: the matrix the step solved with, factored (null: H's, from the start evaluation).
-  void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position);
+  void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position);
   bool hasContacts() const { return contacts_ != nullptr; }
   // With contact, the linearly-implicit step needs H but not its factors: the acceleration a step
   // reports is then the one it applied, (v+ - v) / h, contact included (what a standing robot does,
@@ -157,11 +157,11 @@ class CoupledDynamics {
       d_.evaluate(in_, q, v, out, !started_);
       started_ = true;
     }
-    void linearSystem(const Evaluation& at, const VectorX& v, double h, MatrixX& A, VectorX& rhs) {
+    void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs) {
       d_.linearSystem(in_, at, v, h, A, rhs);
     }
     bool hasContacts() const { return d_.hasContacts(); }
-    void constrain(const VectorX& v0, double h, const MatrixX* factored, VectorX& v, VectorX& v_position) {
+    void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position) {
       d_.constrain(v0, h, factored, v, v_position);
     }
     FreeBodyMotion* freeBodies() { return &d_.free_bodies_; }

@@ -22,8 +22,14 @@ JointLimits::JointLimits(const Model& m, const VectorX& q_reference, bool enable
   VectorX q = q_reference;
   for (const Joint& j : joints_) q[j.q] = std::clamp(q[j.q], j.lower, j.upper);
   Data d(m);
-  const MatrixX H = crba(m, d, q);
-  const VectorX Hinv_diag = H.ldlt().solve(MatrixX::Identity(m.nv, m.nv)).diagonal();
+  const TreeMatrix& H = crba(m, d, q);
+  // H^-1's diagonal, block by block of the tree matrix (a robot's block, not a pile's 6000 dofs).
+  VectorX Hinv_diag = VectorX::Zero(m.nv);
+  for (int b = 0; b < H.blocks(); ++b) {
+    const int begin = H.blockBegin(b), n = H.blockEnd(b) - begin;
+    const MatrixX block = H.block(begin, n);
+    Hinv_diag.segment(begin, n) = block.ldlt().solve(MatrixX::Identity(n, n)).diagonal();
+  }
   for (Joint& j : joints_) {
     const double mobility = Hinv_diag[j.v];  // 1 / the inertia the joint feels with the others free
     j.k = kOmega * kOmega / mobility;

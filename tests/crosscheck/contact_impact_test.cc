@@ -38,8 +38,9 @@ Impacts measure(Simulation& sim, int steps) {
   for (int k = 0; k < steps; ++k) {
     if (probe.solve(sim.q(), sim.v())) {
       ++out.steps_with_contact;
-      const auto H = probe.data.H.selfadjointView<Eigen::Upper>();
-      const double before = 0.5 * probe.v_free.dot(H * probe.v_free), after = 0.5 * probe.v.dot(H * probe.v);
+      const TreeMatrix& H = probe.data.H;
+      const double before = 0.5 * probe.v_free.dot(H.symmetricUpperTimes(probe.v_free)),
+                   after = 0.5 * probe.v.dot(H.symmetricUpperTimes(probe.v));
       out.largest_gain = std::max(out.largest_gain, after - before);
       out.largest_energy = std::max(out.largest_energy, before);
     }

@@ -39,7 +39,7 @@ TEST(ContactMomentum, LegsStrikingEachOtherPutNoNetImpulseOnTheRobot) {
   for (int k = 0; k < 400; ++k) {
     if (probe.solveFrom(sim.q(), sim.v(), sim.v())) {
       ++touching;
-      const VectorX impulse = probe.data.H.selfadjointView<Eigen::Upper>() * (probe.v - sim.v());
+      const VectorX impulse = probe.data.H.symmetricUpperTimes(probe.v - sim.v());
       largest = std::max(largest, impulse.norm());
       worst = std::max(worst, impulse.head<6>().norm());
     }

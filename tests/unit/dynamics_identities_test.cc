@@ -61,7 +61,7 @@ class Identities : public ::testing::TestWithParam<Robot> {
 TEST_P(Identities, InertiaMatrixIsSymmetricPositiveDefinite) {
   std::mt19937 rng(1);
   for (int s = 0; s < 50; ++s) {
-    const MatrixX H = crba(model, *data, randomConfiguration(model, rng));
+    const MatrixX H = crba(model, *data, randomConfiguration(model, rng)).dense();
     EXPECT_LE((H - H.transpose()).cwiseAbs().maxCoeff(), 1e-14 * H.cwiseAbs().maxCoeff());
     EXPECT_EQ(Eigen::LLT<MatrixX>(H).info(), Eigen::Success);
   }
@@ -157,7 +157,7 @@ TEST_P(Identities, PowerBalanceHoldsAlongMotion) {
     VectorX qp(model.nq), qm(model.nq);
     integrateConfiguration(model, q, v, h, qp);
     integrateConfiguration(model, q, v, -h, qm);
-    const MatrixX Hdot = (crba(model, *data, qp) - MatrixX(crba(model, *data, qm))) / (2 * h);
+    const MatrixX Hdot = (crba(model, *data, qp).dense() - crba(model, *data, qm).dense()) / (2 * h);
     const VectorX G = bias(model, *data, q, VectorX::Zero(model.nv));
     const VectorX Cv = bias(model, *data, q, v) - G;
     const double lhs = v.dot(Hdot * v), rhs = 2.0 * v.dot(Cv);
@@ -181,7 +181,7 @@ TEST_P(FixedBaseIdentities, CoriolisMatchesChristoffelSymbolsOfH) {
       VectorX qp = q, qm = q;
       qp[k] += h;
       qm[k] -= h;
-      dH[static_cast<size_t>(k)] = (crba(model, *data, qp) - MatrixX(crba(model, *data, qm))) / (2 * h);
+      dH[static_cast<size_t>(k)] = (crba(model, *data, qp).dense() - crba(model, *data, qm).dense()) / (2 * h);
     }
     MatrixX C = MatrixX::Zero(n, n), Hdot = MatrixX::Zero(n, n);
     for (int k = 0; k < n; ++k) Hdot += dH[static_cast<size_t>(k)] * v[k];

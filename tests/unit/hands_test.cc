@@ -85,7 +85,7 @@ TEST(Hands, TwoHandsMoveTheRobotAsTheSumOfBothCouplings) {
     tau += J.topRows<3>().transpose() * ho.force;
   }
   crba(m, d, q);
-  tau -= sim.scene().robots[0].hold_damping * (d.H * v);
+  tau -= sim.scene().robots[0].hold_damping * d.H.symmetricUpperTimes(v);
   if (sim.scene().joint_damping) tau -= jointDamping(m).cwiseProduct(v);
   ASSERT_TRUE(forwardDynamics(m, d, q, v, tau));
   EXPECT_LE((d.qdd - sim.qdd()).norm(), 1e-9 * std::max(1.0, d.qdd.norm()));

@@ -16,7 +16,7 @@ namespace {
 
 double kineticEnergy(const Simulation& sim) {
   Data d(sim.model());
-  const MatrixX& H = crba(sim.model(), d, sim.q());
+  const MatrixX H = crba(sim.model(), d, sim.q()).dense();
   return 0.5 * sim.v().dot(H * sim.v());
 }
 

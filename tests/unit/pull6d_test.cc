@@ -138,7 +138,7 @@ TEST(Pull6D, TheTorqueEntersTheDynamicsThroughTheFrameJacobian) {
   Vector6 w;
   w << F, T;
   VectorX tau = sim.tau() + J.transpose() * w;
-  tau -= sim.scene().robots[0].hold_damping * [&] { crba(m, d, q); return VectorX(d.H * v); }();
+  tau -= sim.scene().robots[0].hold_damping * [&] { return crba(m, d, q).symmetricUpperTimes(v); }();
   if (sim.scene().joint_damping) tau -= jointDamping(m).cwiseProduct(v);
   ASSERT_TRUE(forwardDynamics(m, d, q, v, tau));
   EXPECT_LE((d.qdd - sim.qdd()).norm(), 1e-9 * std::max(1.0, d.qdd.norm()));
@@ -174,7 +174,7 @@ double energy(Simulation& sim, const InteractionInput& in, int ee) {
   crba(m, d, sim.q());
   const SE3 X = sim.linkPoses()[static_cast<size_t>(ee)];
   const Vector3 e = rotationLog(in.tip_orientation.toRotationMatrix() * X.R.transpose());
-  return 0.5 * sim.v().dot(d.H * sim.v()) + 0.5 * sim.scene().pull.k * (in.tip_position - X.p).squaredNorm() +
+  return 0.5 * sim.v().dot(d.H.symmetricUpperTimes(sim.v())) + 0.5 * sim.scene().pull.k * (in.tip_position - X.p).squaredNorm() +
          0.5 * sim.scene().pull.k_rot * e.squaredNorm();
 }
 

@@ -364,7 +364,7 @@ double handStiffnessRatio(const Case& c, double h) {
   }
   Matrix6X J(6, m.nv);
   pointJacobian(m, d, f, point, J);
-  const MatrixX H = crba(m, d, c.q0);
+  const MatrixX H = crba(m, d, c.q0).dense();
   const Eigen::Matrix<double, 3, Eigen::Dynamic> Jp = J.topRows<3>();
   const Matrix3 inverse_mass = Jp * H.ldlt().solve(Jp.transpose());  // J H^-1 J^T: the hand point's mobility
   // The push's stiffness acts along the normal; the pull's in every direction, so its stiffest mode is

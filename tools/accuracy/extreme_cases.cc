@@ -78,7 +78,7 @@ class Integration {
     const Vector6 p = ode_ ? ode_->momentum() : spatialMomentum(m_, d_, q_, v_);
     return p.tail<3>();
   }
-  double kinetic() { return ode_ ? ode_->kineticEnergy() : 0.5 * v_.dot(crba(m_, d_, q_) * v_); }
+  double kinetic() { return ode_ ? ode_->kineticEnergy() : 0.5 * v_.dot(crba(m_, d_, q_).symmetricUpperTimes(v_)); }
   const VectorX& q() const { return q_; }
   const VectorX& v() const { return v_; }
   bool diverged() const { return diverged_; }

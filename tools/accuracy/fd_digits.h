@@ -27,7 +27,7 @@ inline FdDigits measureFdDigits(const Model& m, int states, unsigned seed, doubl
   for (int s = 0; s < states; ++s) {
     const VectorX q = randomConfiguration(m, rng), v = randomVector(m.nv, rng), a = randomVector(m.nv, rng);
     const VectorX tau = rnea(m, d, q, v, a);
-    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<MatrixX>(crba(m, d, q)).eigenvalues();
+    const Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<MatrixX>(crba(m, d, q).dense()).eigenvalues();
     const double cond = ev.maxCoeff() / ev.minCoeff();
     if (!forwardDynamics(m, d, q, v, tau)) return FdDigits{cond, INFINITY, INFINITY, false};
     const VectorX ldlt = d.qdd;

@@ -125,7 +125,7 @@ std::string evalLine(const Model& model, Data& data, const std::string& text, st
     const VectorX a = readVector(line, "a", model.nv);
     w.key("tau").vector(rnea(model, data, q, v, a, f));
   }
-  w.key("M").matrix(crba(model, data, q));
+  w.key("M").matrix(crba(model, data, q).dense());
   w.key("bias").vector(bias(model, data, q, v));
   if (line.contains("tau")) {
     const VectorX tau = readVector(line, "tau", model.nv);

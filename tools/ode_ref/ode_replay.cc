@@ -127,13 +127,13 @@ OdeReplayResult replayOnOde(const std::vector<log::Event>& events, const OdeSett
     tau_sq += tau.squaredNorm();
     const bool hold = st.mode != 0 && has_trajectory;
     if (hold || tracking) crba(m, d, q);  // H at ODE's state, once per step
-    if (hold) tau -= robot.hold_damping * (d.H * v);  // the hold: -c H v
+    if (hold) tau -= robot.hold_damping * d.H.symmetricUpperTimes(v);  // the hold: -c H v
     if (tracking) {
       const auto& rec_q = states[k - 1].q;  // the recorded state this step starts from
       const auto& rec_v = states[k - 1].v;
       const VectorX a = kp.cwiseProduct(Eigen::Map<const VectorX>(rec_q.data(), m.nq) - q) +
                         kd.cwiseProduct(Eigen::Map<const VectorX>(rec_v.data(), m.nv) - v);
-      const VectorX correction = d.H * a;
+      const VectorX correction = d.H.symmetricUpperTimes(a);
       correction_sq += correction.squaredNorm();
       tau += correction;
     }
