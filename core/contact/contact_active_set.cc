@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Cholesky>
 
@@ -201,6 +202,13 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       cached += count;
     }
   }
+  // Block pivoting on the releases (after Judice and Pires): in an island where nothing slips, while
+  // a round leaves fewer touching normals pulling than any round before, every one of them lets go at
+  // once (a staggered pyramid's sweeps leave eight to seventeen of its hundred corners pressing where
+  // the exact answer lifts them: as many rounds of one change, each a factorisation, became a few);
+  // otherwise one change a round, the worst broken condition of any kind, as before. (With slipping
+  // friction in the island, releasing together left puma_table 261 unconverged solves in 8 s, not 22.)
+  int fewest_pulling = std::numeric_limits<int>::max();
   for (int round = 0; round < kRounds; ++round) {
     ++rounds_;
     // Unknowns: touching normals, and a sticking friction's rows where its pair has a load.
@@ -308,6 +316,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     // outside its cone by how far outside, one slipping along itself by its slip.
     double worst = 0.0;
     int worst_group = -1, worst_row = -1;
+    int pulling = 0;  // touching normals whose impulse pulls
     auto candidate = [&](double how_bad, int m, int row) {
       if (how_bad > worst) {
         worst = how_bad;
@@ -320,7 +329,10 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       const int P = g.points, F = frictionRows(g);
       double N = 0.0;
       for (int k = 0; k < P; ++k) {
-        if (g.active[k] && g.trial[k] < 0.0) candidate(-g.trial[k] * g.W(k, k), m, k);
+        if (g.active[k] && g.trial[k] < 0.0) {
+          candidate(-g.trial[k] * g.W(k, k), m, k);
+          ++pulling;
+        }
         else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
         N += std::max(g.trial[k], 0.0);
       }
@@ -360,6 +372,18 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       for (int m = 0; m < n; ++m) group(m).lambda = group(m).trial;
       return true;
     }
+    bool slips = false;
+    for (int m = 0; m < n && !slips; ++m) slips = group(m).sliding || group(m).spin_sliding || group(m).roll_sliding;
+    if (pulling > 1 && pulling < fewest_pulling && !slips) {
+      fewest_pulling = pulling;
+      for (int m = 0; m < n; ++m) {
+        ContactGroup& h = group(m);
+        for (int k = 0; k < h.points; ++k)
+          if (h.active[k] && h.trial[k] < 0.0) h.active[k] = false;
+      }
+      continue;
+    }
+    fewest_pulling = std::min(fewest_pulling, pulling);
     ContactGroup& g = group(worst_group);
     if (worst_row < g.points) {
       g.active[worst_row] = !g.active[worst_row];

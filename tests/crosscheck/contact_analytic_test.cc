@@ -342,25 +342,37 @@ TEST(ContactAnalytic, ALogSpinningOnItsSideStopsWhenUniformLineLoadSays) {
 }
 
 // Still: every free body's speed below 1e-6 m/s, overlap within 0.1 mm, for 10 s.
-void expectStill(const char* name) {
+// \return the exact (active-set) solve's rounds per step, over the 10 s.
+double expectStill(const char* name) {
   Simulation sim(shipped(name));
   double speed = 0.0, overlap = 0.0;
+  long rounds = 0;
   for (int k = 0; k < 10000; ++k) {
-    ASSERT_TRUE(sim.step(nullptr));
+    EXPECT_TRUE(sim.step(nullptr));
+    rounds += sim.contactStats().polish_rounds;
     for (const ModelPart& part : sim.model().parts)
       if (part.free_body) speed = std::max(speed, body(sim, part.name).v.norm());
     overlap = std::max(overlap, sim.contacts().maxPenetration());
   }
-  std::printf("%s over 10 s: largest speed %.2e m/s, largest overlap %.2e m\n", name, speed, overlap);
+  std::printf("%s over 10 s: largest speed %.2e m/s, largest overlap %.2e m, %ld unconverged solves, "
+              "%.3f exact-solve rounds a step\n",
+              name, speed, overlap, static_cast<long>(sim.contactStats().unconverged), rounds / 1e4);
   EXPECT_LT(speed, 1e-6) << name;
   EXPECT_LE(overlap, 1e-4) << name;
+  EXPECT_EQ(sim.contactStats().unconverged, 0) << name;
+  return rounds / 1e4;
 }
 
 TEST(ContactAnalytic, TenStackedBoxesStandStill) { expectStill("box_tower.yaml"); }
 
 TEST(ContactAnalytic, ThePileOf216SpheresStandsStill) { expectStill("sphere_pile.yaml"); }
 
-TEST(ContactAnalytic, AStaggeredPyramidOfBoxesStandsStill) { expectStill("box_pyramid.yaml"); }
+TEST(ContactAnalytic, AStaggeredPyramidOfBoxesStandsStill) {
+  const double rounds = expectStill("box_pyramid.yaml");
+  // Its sweeps leave 8 to 17 of its 100 corners pressing where the exact answer lifts them; releasing
+  // them one a round took 2.3 rounds (factorisations) a step, each about 50 us.
+  EXPECT_LT(rounds, 1.0) << "the lifted corners are released together";
+}
 
 // The log pile (log_pile.yaml) at friction mu for 3 s: how far the top log came down, m.
 double logPileSag(double mu) {
