@@ -23,9 +23,13 @@ const TreeMatrix& crbaAtPlacements(const Model& model, Data& data) {
   // Column t's lower part is t's descendants, one contiguous range in depth-first order: the
   // stores run down a column (a row's would each touch another cache line).
   TreeMatrix& H = data.H;
-  for (int t = 0; t < model.nv; ++t) {
-    double* const column = H.column(t);
-    for (int c = t + 1; c < model.dof_subtree_end[t]; ++c) column[c] = H.column(c)[t];
+  for (int b = 0; b < H.blocks(); ++b) {
+    const std::ptrdiff_t stride = H.blockEnd(b) - H.blockBegin(b);  // from one column to the next
+    for (int t = H.blockBegin(b); t < H.blockEnd(b); ++t) {
+      double* const column = H.column(t);
+      const double* const row = column + t;  // (t, c) is row[(c - t) stride]
+      for (int c = t + 1; c < model.dof_subtree_end[t]; ++c) column[c] = row[(c - t) * stride];
+    }
   }
   return H;
 }
