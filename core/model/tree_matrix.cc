@@ -31,15 +31,7 @@ TreeMatrix::TreeMatrix(const Model& model) {
   values_.assign(values, 0.0);
 }
 
-void TreeMatrix::setZero() { std::fill(values_.begin(), values_.end(), 0.0); }
-
 Eigen::Map<const MatrixX, 0, Eigen::OuterStride<>> TreeMatrix::block(int begin, int n) const {
-  const int b = blockOf(begin);
-  assert(n == 0 || blockOf(begin + n - 1) == b);
-  return {column(begin) + begin, n, n, Eigen::OuterStride<>(blockEnd(b) - blockBegin(b))};
-}
-
-Eigen::Map<MatrixX, 0, Eigen::OuterStride<>> TreeMatrix::block(int begin, int n) {
   const int b = blockOf(begin);
   assert(n == 0 || blockOf(begin + n - 1) == b);
   return {column(begin) + begin, n, n, Eigen::OuterStride<>(blockEnd(b) - blockBegin(b))};

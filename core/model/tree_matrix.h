@@ -44,12 +44,10 @@ class TreeMatrix {
   double& operator()(int r, int c) { return column(c)[r]; }
   bool sameBlock(int r, int c) const { return blockOf(r) == blockOf(c); }
 
-  void setZero();
   // Every stored entry of `from` (a matrix of the same model): no allocation.
   void assign(const TreeMatrix& from) { values_ = from.values_; }
   // The square sub-block [begin, begin + n) of one block, as an Eigen view (both triangles as stored).
   Eigen::Map<const MatrixX, 0, Eigen::OuterStride<>> block(int begin, int n) const;
-  Eigen::Map<MatrixX, 0, Eigen::OuterStride<>> block(int begin, int n);
 
   // y[range] += scale * S x[range] on dofs [begin, end), S the symmetric matrix of the stored upper
   // triangle restricted to those dofs (its entries with dofs outside the range are left out).
