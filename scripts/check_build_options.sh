@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh >/dev/null  # the packages (and the main build)
 configs=(
   "no-lcm-no-kdl:-DIGMS_WITH_LCM=OFF -DIGMS_WITH_KDL=OFF"
-  "no-web-no-tests-no-bench-native:-DIGMS_WITH_WEB=OFF -DIGMS_BUILD_TESTS=OFF -DIGMS_BUILD_BENCH=OFF -DIGMS_NATIVE=ON"
+  "no-web-no-python-no-tests-no-bench-native:-DIGMS_WITH_WEB=OFF -DIGMS_WITH_PYTHON=OFF -DIGMS_BUILD_TESTS=OFF -DIGMS_BUILD_BENCH=OFF -DIGMS_NATIVE=ON"
 )
 mkdir -p out/build-options
 for entry in "${configs[@]}"; do

@@ -24,11 +24,13 @@ packages=(
   python3 python3-yaml python3-matplotlib     # model generators, plots
   python3-cryptography                        # Python on a signed bus (python/igmsbus.py: a device in Python)
   python3-pip python3-venv python3-numpy      # PyPI: example-robot-data (fetch_robots.sh), lcm (python_env.sh)
+  python3-dev python3-pytest                  # the igms Python module (nanobind, from PyPI) and its tests
+  python3-pandas python3-tqdm                 # igms-sweep: its results as a table, its progress bar
   libwebsocketpp-dev libboost-dev libjs-three # browser view: HTTP/WebSocket server, three.js in the page
   chromium chromium-driver python3-selenium   # browser tests, demo screenshots (headless Chromium)
   fonts-dejavu-core socat                     # the page's text; scripts/live.sh's bridge out of the netns
 )
-stage "[1/5] Debian packages"
+stage "[1/6] Debian packages"
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -42,23 +44,24 @@ if ((${#missing[@]})); then
 fi
 
 # Real robot models (Panda, UR5, ...) for the mesh tests and scenes; without PyPI those tests skip.
-stage "[2/5] robot models (example-robot-data)"
+stage "[2/6] robot models (example-robot-data)"
 scripts/fetch_robots.sh || echo "setup: example-robot-data not fetched; the tests that need it will skip" >&2
-# Python's LCM binding (PyPI only) in .venv: igmslog.py and the Python tests.
-stage "[3/5] Python environments (.venv, .venv-peers)"
-scripts/python_env.sh >/dev/null || echo "setup: .venv without lcm; the Python log tests will fail" >&2
+# What exists only on PyPI in .venv: LCM's binding (igmslog.py, the Python tests), nanobind and
+# scikit-build-core (the igms module, configured below with .venv's interpreter), Ray and pyarrow (igms-sweep).
+stage "[3/6] Python environments (.venv, .venv-peers)"
+scripts/python_env.sh >/dev/null || echo "setup: .venv without lcm, nanobind or ray; the Python tests will fail" >&2
 # Pinocchio, MuJoCo and SciPy (PyPI only) in .venv-peers: the accuracy report's independent truth and
 # MuJoCo's integrators (independent_truth_test), and the optional peer benchmark.
 scripts/peer_env.sh >/dev/null || echo "setup: no .venv-peers; independent_truth_test will fail" >&2
 
-stage "[4/5] configure (build.configure.log)"
+stage "[4/6] configure (build.configure.log)"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >build.configure.log 2>&1 || {
   cat build.configure.log
   exit 1
 }
 grep -E "built:|left out:" build.configure.log || true
 # Ninja's "[k/N]" lines, one progress line per tenth on stderr; everything in build.log.
-stage "[5/5] build (build.log)"
+stage "[5/6] build (build.log)"
 set +e
 cmake --build build -j "$(nproc)" 2>&1 | tee build.log | awk '
   match($0, /^\[[0-9]+\/[0-9]+\]/) {
@@ -72,5 +75,17 @@ if ((status != 0)); then
   echo "setup: the build failed; the end of build.log:" >&2
   tail -n 40 build.log >&2
   exit "$status"
+fi
+# The module the build made (build/python/igms) importable from .venv, as an editable install would make it,
+# and igms-sweep on .venv's PATH. `pip install .` builds and installs it anywhere else (docs/python.md).
+stage "[6/6] the igms module into .venv"
+if [[ -f build/python/igms/__init__.py ]] && ls build/python/igms/_igms*.so >/dev/null 2>&1; then
+  site=$(.venv/bin/python -c "import sysconfig; print(sysconfig.get_paths()['purelib'])")
+  echo "$PWD/build/python" >"$site/igms_build_tree.pth"
+  printf '#!/bin/sh\n# igms-sweep from the build tree (scripts/setup.sh)\nexec "%s" -m igms.sweep_cli "$@"\n' \
+    "$PWD/.venv/bin/python" >.venv/bin/igms-sweep
+  chmod +x .venv/bin/igms-sweep
+else
+  echo "setup: the igms module was not built (see build.configure.log); .venv has no igms" >&2
 fi
 stage "done"

@@ -11,6 +11,11 @@
     every program and script the block starts.
   - `<!-- synopsis -->`: a command's syntax (placeholders, [--options]); not
     run, and docs_commands_test checks its programs, scripts and options.
+  - A page's ```python blocks with no mark are one script, in the page's order
+    (a walkthrough: later blocks use what earlier ones made), run here with
+    the project's .venv and the build's igms module (PYTHONPATH=build/python)
+    from the same kind of scratch folder, inside a private network namespace
+    (a sweep's local Ray); it must exit 0 within PYTHON_SECONDS.
   - Any other block says what it is (```text for output, trees and diagrams;
     ```yaml, ```cmake, ...): a block with no language fails here.
 
@@ -27,6 +32,7 @@ import time
 root, build = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 pages = [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "docs", "*.md")))
 RUN_SECONDS = 180
+PYTHON_SECONDS = 300
 
 
 def blocks(page):
@@ -109,11 +115,41 @@ def sandbox():
     return d
 
 
+def run_python(where, script, first_line):
+    """A page's unmarked python blocks, as one script."""
+    work = sandbox()
+    t0 = time.time()
+    env = dict(os.environ, PYTHONPATH=os.path.join(build, "python"), MPLBACKEND="Agg")
+    try:
+        with open(os.path.join(work, "docs_blocks.py"), "w") as f:
+            f.write(script)
+        r = subprocess.run([os.path.join(root, "scripts", "netns_run.sh"), os.path.join(root, ".venv", "bin", "python"),
+                            "docs_blocks.py"], cwd=work, capture_output=True, text=True, timeout=PYTHON_SECONDS,
+                           env=env)
+        code, output = r.returncode, r.stdout + r.stderr
+    except subprocess.TimeoutExpired as e:
+        code, output = "timeout", (e.stdout or b"").decode(errors="replace")
+    finally:
+        subprocess.run(["rm", "-rf", work])
+    print("ran %s:%d and the page's other python blocks (%.1f s): exit %s" % (where, first_line, time.time() - t0, code))
+    return None if code == 0 else "%s: its python blocks exit %s:\n%s" % (
+        where, code, "\n".join(output.strip().split("\n")[-15:]))
+
+
 tests = ctest_names()
 bad, ran, delegated, synopses, described = [], 0, 0, 0, 0
 for page in pages:
     where = os.path.relpath(page, root)
+    python = [(line, body) for line, lang, mark, body in blocks(page) if lang == "python" and not mark]
+    if python:
+        script = "".join("# %s:%d\n%s\n" % (where, line, body) for line, body in python)
+        failure = run_python(where, script, python[0][0])
+        ran += len(python)
+        if failure:
+            bad.append(failure)
     for line, lang, mark, body in blocks(page):
+        if lang == "python" and not mark:
+            continue
         at = "%s:%d" % (where, line)
         if not lang:
             bad.append("%s: a block with no language (```bash, ```text, ```yaml ...)" % at)

@@ -26,7 +26,8 @@ def program_path(name):
         path = os.path.join(build, folder, name)
         if os.path.exists(path):
             return path
-    return None
+    path = os.path.join(root, ".venv", "bin", name)  # igms-sweep: the Python module's (scripts/setup.sh)
+    return path if os.path.exists(path) else None
 
 
 def help_text(path, sub=None):
