@@ -150,7 +150,7 @@ def sweep(quick):
             t_ray = time.perf_counter() - t0
         finally:
             ray.shutdown()
-    a, b = serial.drop(columns=["duration_s"]), on_ray.drop(columns=["duration_s"])
+    a, b = serial.drop(columns=["duration_s", "worker"]), on_ray.drop(columns=["duration_s", "worker"])
     identical = all(np.array_equal(np.stack(a[c]) if a[c].dtype == object else a[c], np.stack(b[c]) if b[c].dtype == object
                                    else b[c]) for c in a.columns if c != "error") and a["error"].isna().all()
     print(f"4. a 200-run box_slide sweep: serial {t_serial:.2f} s, local Ray ({workers} workers) {t_ray:.2f} s "

@@ -35,7 +35,7 @@ __all__ = ["Scene", "Simulation", "Model", "Log", "resimulate", "run_scenario", 
            "LogError", "SimulationDiverged", "Body", "Hands"]
 
 
-def sweep(spec, out, address=None, workers=None, progress=True, base_dir="."):
+def sweep(spec, out="out/sweep", address=None, workers=None, progress=True, base_dir="."):
     """Runs a sweep spec (a dict or a YAML file's path) on Ray and writes DIR/results.parquet; see igms.sweeps."""
     from .sweeps import run_sweep
     return run_sweep(spec, out, address=address, workers=workers, progress=progress, base_dir=base_dir)

@@ -1,12 +1,14 @@
 """igms.sweep: many runs of one scenario with its parameters changed (sweep_spec.py), each a Ray task that
 runs the scenario in process through the module, as igms-scenario does, and returns its metrics. Ray starts
 a local cluster unless given an address. Results go to OUT/results.parquet, a row per run (run, run_id,
-seed, the parameters, the metrics, duration_s, error), sorted by run whatever the order of completion; a run
+seed, the parameters, the metrics, duration_s, worker, error), sorted by run whatever the order of completion; a run
 that fails records its error and the sweep goes on; a rerun skips the run ids already there. Ray, pyarrow
 and tqdm are needed here only: `import igms` does not load them."""
 import json
 import math
 import os
+import socket
+import sys
 import tempfile
 import time
 
@@ -79,7 +81,15 @@ def run_one(spec, run):
     except Exception as e:  # noqa: BLE001: a failing run is recorded, the sweep goes on
         row["error"] = f"{type(e).__name__}: {e}"
     row["duration_s"] = time.perf_counter() - start
+    row["worker"] = _worker()
     return row
+
+
+def _worker():
+    """Where a run ran: the Ray node's address (or this host's name) and the process."""
+    ray = sys.modules.get("ray")  # loaded in a Ray worker; a serial sweep does not load it
+    host = ray.util.get_node_ip_address() if ray is not None and ray.is_initialized() else socket.gethostname()
+    return f"{host}:{os.getpid()}"
 
 
 def run_chunk(spec, runs):
@@ -108,7 +118,7 @@ def _write(path, rows):
     os.replace(tmp, path)
 
 
-def run_sweep(spec, out, address=None, workers=None, progress=True, base_dir=".", serial=False, retry_failed=False,
+def run_sweep(spec, out="out/sweep", address=None, workers=None, progress=True, base_dir=".", serial=False, retry_failed=False,
               working_dir=None, checkpoint_s=5.0):
     """Runs the spec's runs not yet in OUT/results.parquet and writes it; returns its rows (a pandas DataFrame).
     serial: in this process, one after the other, without Ray (the reference a Ray sweep must match)."""

@@ -33,7 +33,7 @@ def discrete_stop(v0, mu):
 
 
 def metrics(frame):
-    return frame.drop(columns=["duration_s"]).to_dict("records")
+    return frame.drop(columns=["duration_s", "worker"]).to_dict("records")
 
 
 def same(a, b):
