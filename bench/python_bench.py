@@ -62,10 +62,11 @@ def step_overhead(quick):
 
 
 RNEA_PEER = r"""
-import json, statistics, sys, time
+import json, statistics, sys
 import numpy as np
 import pinocchio as pin
 import igms
+from python_bench import median_per_call
 path, calls, batches = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 pm = pin.buildModelFromUrdf(path); pd = pm.createData()
 im = igms.Model.from_urdf(path)
@@ -73,17 +74,10 @@ assert (pm.nq, pm.nv) == (im.nq, im.nv)
 rng = np.random.default_rng(1)
 q, v, a = (rng.uniform(-1, 1, im.nv) for _ in range(3))
 err = float(np.max(np.abs(im.rnea(q, v, a) - pin.rnea(pm, pd, q, v, a))))
-def per_call(fn):
-    times = []
-    for _ in range(batches):
-        t0 = time.perf_counter()
-        for _ in range(calls):
-            fn()
-        times.append((time.perf_counter() - t0) / calls)
-    return statistics.median(times)
 rounds = []
 for _ in range(3):  # interleaved
-    rounds.append((per_call(lambda: im.rnea(q, v, a)), per_call(lambda: pin.rnea(pm, pd, q, v, a))))
+    rounds.append((median_per_call(lambda: im.rnea(q, v, a), calls, batches),
+                   median_per_call(lambda: pin.rnea(pm, pd, q, v, a), calls, batches)))
 print(json.dumps({"igms_us": 1e6 * statistics.median(r[0] for r in rounds),
                   "pinocchio_us": 1e6 * statistics.median(r[1] for r in rounds), "max_difference": err}))
 """
@@ -94,7 +88,7 @@ def rnea_against_pinocchio(quick):
     if not os.path.exists(peers) or not os.path.exists(UR5):
         print("2. rnea against pinocchio: skipped (needs .venv-peers: scripts/peer_env.sh; and scripts/fetch_robots.sh)")
         return None
-    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "build/python"))
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "build/python") + os.pathsep + os.path.dirname(__file__))
     r = json.loads(subprocess.run([peers, "-c", RNEA_PEER, UR5, "2000", "10" if quick else "50"], env=env,
                                   capture_output=True, text=True, check=True).stdout)
     print(f"2. rnea on the UR5 from Python: igms {r['igms_us']:.3f} us, pinocchio {r['pinocchio_us']:.3f} us: "

@@ -13,6 +13,7 @@
 
 #include "python/bindings/array_args.h"
 #include "python/bindings/bindings.h"
+#include "python/bindings/solve_figures.h"
 #include "tools/replay/recorded_session.h"
 #include "tools/replay/resimulate.h"
 #include "tools/scenario/scenario_run.h"
@@ -125,16 +126,7 @@ nb::dict scenarioResult(const ScenarioResult& r) {
   d["max_force_step"] = r.max_force_step;
   d["max_proxy_penetration"] = r.max_proxy_penetration;
   d["max_device_behind_proxy"] = r.max_device_behind_proxy;
-  nb::dict solve;
-  solve["solves"] = r.solve.solves;
-  solve["unconverged"] = r.solve.unconverged;
-  solve["max_sweeps"] = r.solve.max_sweeps;
-  solve["max_residual"] = r.solve.max_residual;
-  solve["warm_dropped"] = r.solve.warm_dropped;
-  solve["restitution_scaled"] = r.solve.restitution_scaled;
-  solve["energy_capped"] = r.solve.energy_capped;
-  solve["position_unconverged"] = r.solve.position_unconverged;
-  d["contact_solve"] = solve;
+  d["contact_solve"] = solveFigures(r.solve);
   nb::list interactions;
   for (size_t i = 0; i < r.interactions.size(); ++i) {
     nb::dict x;

@@ -20,6 +20,7 @@
 #include "python/bindings/array_args.h"
 #include "python/bindings/bindings.h"
 #include "python/bindings/diverged_error.h"
+#include "python/bindings/solve_figures.h"
 #include "server/transport/input_gate.h"
 
 namespace igms::python {
@@ -126,16 +127,16 @@ class PySimulation {
     d["forces_clamped"] = sim_.forcesClamped();
     d["resume_ramps"] = sim_.resumeRamps();
     d["contacts_dropped"] = sim_.contacts().dropped;
-    nb::dict solve;
-    solve["solves"] = s.solves;
-    solve["unconverged"] = s.unconverged;
-    solve["max_sweeps"] = tally_.max_sweeps;
-    solve["max_residual"] = tally_.max_residual;
-    solve["warm_dropped"] = s.warm_dropped;
-    solve["restitution_scaled"] = s.restitution_scaled;
-    solve["energy_capped"] = s.energy_capped;
-    solve["position_unconverged"] = s.position_unconverged;
-    d["contact_solve"] = solve;
+    ScenarioSolveStats solve;
+    solve.solves = s.solves;
+    solve.unconverged = s.unconverged;
+    solve.max_sweeps = tally_.max_sweeps;
+    solve.max_residual = tally_.max_residual;
+    solve.warm_dropped = s.warm_dropped;
+    solve.restitution_scaled = s.restitution_scaled;
+    solve.energy_capped = s.energy_capped;
+    solve.position_unconverged = s.position_unconverged;
+    d["contact_solve"] = solveFigures(solve);
     nb::dict poses;
     const Model& model = sim_.model();
     for (const ModelPart& part : model.parts)

@@ -20,20 +20,8 @@ cleanup() {
   [[ -n ${KEEP:-} ]] || rm -rf "$out"
 }
 trap cleanup EXIT
-ip netns add "$a"
-ip netns add "$b"
-ip link add "va$$" type veth peer name "vb$$"
-ip link set "va$$" netns "$a"
-ip link set "vb$$" netns "$b"
-ip -n "$a" addr add 10.77.0.1/24 dev "va$$"
-ip -n "$b" addr add 10.77.0.2/24 dev "vb$$"
-for ns in "$a:va$$" "$b:vb$$"; do
-  n=${ns%%:*} dev=${ns##*:}
-  ip -n "$n" link set lo up
-  ip -n "$n" link set "$dev" up
-  ip -n "$n" link set "$dev" multicast on
-  ip -n "$n" route add 224.0.0.0/4 dev "$dev"
-done
+source "$source/scripts/lib/veth_pair.sh"
+igms_veth_pair "$a" "$b" "va$$" "vb$$" 10.77.0
 url="udpm://239.255.76.67:7723?ttl=1"  # ttl=1: one hop, the private link only
 source "$source/scripts/lib/bus_key.sh"
 igms_new_key "$out/bus.key"

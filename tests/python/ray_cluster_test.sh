@@ -19,17 +19,8 @@ cleanup() {
   rm -rf "$out"
 }
 trap cleanup EXIT
-ip netns add "$a"
-ip netns add "$b"
-ip link add "ra$$" type veth peer name "rb$$"
-ip link set "ra$$" netns "$a"
-ip link set "rb$$" netns "$b"
-ip -n "$a" addr add 10.78.0.1/24 dev "ra$$"
-ip -n "$b" addr add 10.78.0.2/24 dev "rb$$"
-for ns in "$a:ra$$" "$b:rb$$"; do
-  ip -n "${ns%%:*}" link set lo up
-  ip -n "${ns%%:*}" link set "${ns##*:}" up
-done
+source "$source/scripts/lib/veth_pair.sh"
+igms_veth_pair "$a" "$b" "ra$$" "rb$$" 10.78.0
 export RAY_USAGE_STATS_ENABLED=0 RAY_AUTH_MODE=token  # every node and the driver: the cluster's token (~/.ray/auth_token)
 ip netns exec "$a" "$venv/ray" start --head --node-ip-address 10.78.0.1 --port 6390 --num-cpus 1 \
   --include-dashboard false --disable-usage-stats >"$out/head.log" 2>&1 || { cat "$out/head.log"; exit 1; }

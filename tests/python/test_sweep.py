@@ -21,9 +21,19 @@ GRID = {"scene": "scenes/box_slide.yaml", "seconds": 1.5,
 
 
 def ray_processes():
+    """Ray's processes on this machine: {pid: command line}."""
     out = subprocess.run(["ps", "-eo", "pid=,args="], capture_output=True, text=True).stdout
-    return {line.split()[0] for line in out.splitlines()
+    return {line.split()[0]: line.strip() for line in out.splitlines()
             if any(k in line for k in ("raylet", "gcs_server", "ray::", "ray/_private", "dashboard/agent"))}
+
+
+def assert_none_left(before):
+    """Every Ray process started since `before` ends within 30 s of the sweep's return."""
+    deadline = time.time() + 30
+    while set(ray_processes()) - set(before) and time.time() < deadline:
+        time.sleep(0.5)
+    left = {pid: args for pid, args in ray_processes().items() if pid not in before}
+    assert not left, f"Ray processes left behind: {left}"
 
 
 def discrete_stop(v0, mu):
@@ -57,10 +67,7 @@ def test_a_sweep_on_ray_matches_a_serial_loop_and_coulomb(tmp_path):
         assert abs(discrete_stop(v0, mu) - v0**2 / (2 * mu * G)) < H * v0  # the analytic stop, within h v0
         assert row["max_contacts"] == 4 and row["contact_solve.unconverged"] == 0
     # Ray was started here and is gone: no raylet, GCS or worker outlives the sweep.
-    deadline = time.time() + 15
-    while ray_processes() - before and time.time() < deadline:
-        time.sleep(0.5)
-    assert not ray_processes() - before
+    assert_none_left(before)
 
 
 def test_a_failing_run_is_recorded_and_the_sweep_goes_on(tmp_path):
@@ -108,10 +115,7 @@ def test_the_same_seed_gives_the_same_rows_on_ray(tmp_path):
     assert a["materials.wood.friction"].between(0.1, 1.0).all()
     v = np.stack(a["bodies[box].v"])
     assert v.shape == (24, 3) and np.all(v >= 0) and np.all(v <= [2, 1, 0])
-    deadline = time.time() + 15
-    while ray_processes() - before and time.time() < deadline:
-        time.sleep(0.5)
-    assert not ray_processes() - before
+    assert_none_left(before)
 
 
 def test_keys_and_specs_are_checked():
