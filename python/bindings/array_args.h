@@ -30,10 +30,18 @@ inline PyObject* numpyFunction(const char* name) {
   return f.release().ptr();
 }
 
-// Anything numpy.asarray takes (lists, tuples, ints, float32), as a float64 array.
-inline nb::object asFloat64(nb::handle h) {
+// Anything numpy.asarray reads as an array of real numbers (lists, tuples, ints, float32), as float64;
+// complex, boolean, text and object arrays raise TypeError.
+inline nb::object asFloat64(nb::handle h, const char* what) {
   static PyObject* asarray = numpyFunction("asarray");
-  return nb::borrow<nb::object>(asarray)(h, "float64");
+  nb::object a = nb::borrow<nb::object>(asarray)(h);
+  nb::object dtype = a.attr("dtype");
+  const std::string kind = nb::cast<std::string>(dtype.attr("kind"));
+  if (kind != "i" && kind != "u" && kind != "f")
+    throw nb::type_error((std::string(what) + ": expected an array of real numbers, got dtype " +
+                          nb::cast<std::string>(nb::str(dtype)))
+                             .c_str());
+  return a.attr("astype")("float64");
 }
 
 // A buffer of doubles held for one read (the buffer protocol: numpy arrays without nanobind's import).
@@ -68,7 +76,7 @@ struct DoubleBuffer {
 inline void readVector(nb::handle h, Eigen::Index n, const char* what, VectorX& out) {
   DoubleBuffer b(h);
   if (!b.isDouble()) {
-    nb::object converted = asFloat64(h);
+    nb::object converted = asFloat64(h, what);
     DoubleBuffer c(converted);
     if (!c.isDouble()) throw nb::type_error((std::string(what) + ": not an array of numbers").c_str());
     return readVector(converted, n, what, out);

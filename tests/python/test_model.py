@@ -81,8 +81,9 @@ def test_arrays_are_checked_before_anything_runs():
         model.rnea(z, z, np.array([0, 0, np.nan, 0, 0, 0]))
     with pytest.raises(ValueError, match=r"tau\[0\] is not finite"):
         model.aba(z, z, np.array([np.inf, 0, 0, 0, 0, 0]))
-    with pytest.raises(ValueError):
-        model.rnea(["a"] * 6, z, z)
+    for wrong in (["a"] * 6, np.zeros(6, complex), np.array([None] * 6), np.zeros(6, bool)):
+        with pytest.raises(TypeError, match=r"q: expected an array of real numbers, got dtype"):
+            model.rnea(wrong, z, z)
     with pytest.raises(KeyError, match="no frame 'nope'"):
         model.frame_placement(z, "nope")
     with pytest.raises(IndexError):

@@ -116,7 +116,7 @@ def test_bad_state_and_names_raise_before_anything_runs():
         sim.set_state(np.zeros(3), np.zeros(6))
     with pytest.raises(ValueError, match=r"q\[6\] is not finite"):
         sim.set_state([0, 0, 0.1, 1, 0, 0, np.nan], np.zeros(6))
-    with pytest.raises(ValueError):
+    with pytest.raises(TypeError, match="dtype"):
         sim.set_state(["x"] * 7, np.zeros(6))
     with pytest.raises(KeyError, match="no body or link 'ball'.*box"):
         sim.body("ball")
