@@ -12,6 +12,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <optional>
 
@@ -27,6 +28,13 @@ namespace igms::python {
 
 namespace {
 
+// One hand's stretch of push or pull, as the session summary lists them (scripts/session_summary.py).
+struct Interaction {
+  int32_t client = -1;
+  InteractionMode mode = InteractionMode::None;
+  double start = 0.0, end = 0.0, max_force = 0.0;  // s, s, N on the robot or body
+};
+
 // The running figures summary() reports, kept as the steps go.
 struct Tally {
   int max_contacts = 0;
@@ -34,13 +42,18 @@ struct Tally {
   int max_sweeps = 0;
   double max_residual = 0.0;
   double max_robot_force = 0.0;
+  int64_t steps_with_several_hands = 0;
+  std::vector<Interaction> interactions;            // in order of start (reserved: a push or pull is rare)
+  std::array<int, kMaxHands> open{-1, -1, -1, -1};  // per client: its interaction going on (-1: none)
 };
 
 class PySimulation {
  public:
   explicit PySimulation(const Scene& scene)
       : sim_(scene), bodies_(freeBodyNames()), zero_qdd_(VectorX::Zero(sim_.model().nv)), q_in_(sim_.model().nq),
-        v_in_(sim_.model().nv) {}
+        v_in_(sim_.model().nv), q_start_(sim_.q()) {
+    tally_.interactions.reserve(256);
+  }
 
   Simulation& sim() { return sim_; }
   const Simulation& sim() const { return sim_; }
@@ -127,6 +140,18 @@ class PySimulation {
     d["forces_clamped"] = sim_.forcesClamped();
     d["resume_ramps"] = sim_.resumeRamps();
     d["contacts_dropped"] = sim_.contacts().dropped;
+    d["steps_with_several_hands"] = tally_.steps_with_several_hands;
+    nb::list interactions;
+    for (const Interaction& i : tally_.interactions) {
+      nb::dict x;
+      x["client"] = i.client;
+      x["mode"] = i.mode == InteractionMode::Push ? "push" : "pull";
+      x["start"] = i.start;
+      x["end"] = i.end;
+      x["max_force"] = i.max_force;
+      interactions.append(x);
+    }
+    d["interactions"] = interactions;
     ScenarioSolveStats solve;
     solve.solves = s.solves;
     solve.unconverged = s.unconverged;
@@ -140,7 +165,12 @@ class PySimulation {
     nb::dict poses;
     const Model& model = sim_.model();
     for (const ModelPart& part : model.parts)
-      if (part.free_body) poses[part.name.c_str()] = newVector(sim_.q().data() + part.q_begin, 7);
+      if (part.free_body) {
+        nb::dict body;
+        body["start"] = newVector(q_start_.data() + part.q_begin, 7);
+        body["end"] = newVector(sim_.q().data() + part.q_begin, 7);
+        poses[part.name.c_str()] = body;
+      }
     d["bodies"] = poses;
     return d;
   }
@@ -218,12 +248,33 @@ class PySimulation {
       tally_.max_sweeps = std::max(tally_.max_sweeps, sim_.contactStats().iterations);
       tally_.max_residual = std::max(tally_.max_residual, sim_.contactStats().residual);
     }
-    tally_.max_robot_force = std::max(tally_.max_robot_force, sim_.outcome().force_on_robot.norm());
+    const StepOutcome& o = sim_.outcome();
+    tally_.max_robot_force = std::max(tally_.max_robot_force, o.force_on_robot.norm());
+    int acting = 0;
+    std::array<bool, kMaxHands> seen{};
+    for (int k = 0; k < o.nhands; ++k) {
+      const HandOutcome& h = o.hands[static_cast<size_t>(k)];
+      if (h.mode == InteractionMode::None || h.client < 0 || h.client >= kMaxHands) continue;
+      ++acting;
+      seen[static_cast<size_t>(h.client)] = true;
+      int& open = tally_.open[static_cast<size_t>(h.client)];
+      if (open < 0 || tally_.interactions[static_cast<size_t>(open)].mode != h.mode) {
+        open = static_cast<int>(tally_.interactions.size());
+        tally_.interactions.push_back(Interaction{h.client, h.mode, sim_.time(), sim_.time(), 0.0});
+      }
+      Interaction& i = tally_.interactions[static_cast<size_t>(open)];
+      i.end = sim_.time();
+      i.max_force = std::max(i.max_force, h.force.norm());
+    }
+    for (int c = 0; c < kMaxHands; ++c)
+      if (!seen[static_cast<size_t>(c)]) tally_.open[static_cast<size_t>(c)] = -1;
+    if (acting > 1) ++tally_.steps_with_several_hands;
   }
 
   Simulation sim_;
   std::vector<std::string> bodies_;
   VectorX zero_qdd_, q_in_, v_in_;
+  const VectorX q_start_;  // the scene's initial q (each body's start in summary())
   std::array<Hand, kMaxHands> hands_;
   HandInputs inputs_;
   int64_t seq_ = 0;
@@ -351,8 +402,10 @@ void bindSimulation(nb::module_& m) {
       .def("_release", &PySimulation::release, nb::arg("client"))
       .def("_active_hands", &PySimulation::activeHands)
       .def("summary", &PySimulation::summary,
-           "The run so far: time, steps, divergence, the most contacts and the deepest overlap, the contact solve's "
-           "figures, the largest force on the robot, each free body's pose [x y z qw qx qy qz].");
+           "The run so far, as the session summary has it: time, steps, divergence, the most contacts and the deepest "
+           "overlap, the contact solve's figures, the largest force on a robot or body, each hand's interactions "
+           "(client, mode, start, end, max_force) and the steps with several hands, each free body's start and end "
+           "pose [x y z qw qx qy qz].");
 }
 
 }  // namespace igms::python

@@ -74,7 +74,8 @@ def test_contacts_hold_the_weight():
     assert np.all(np.abs(c["depth"]) < 1e-9)
     s = sim.summary()
     assert s["max_contacts"] == 4 and s["contact_solve"]["solves"] == 200 and s["contact_solve"]["unconverged"] == 0
-    np.testing.assert_array_equal(s["bodies"]["box"], sim.q)
+    np.testing.assert_array_equal(s["bodies"]["box"]["end"], sim.q)
+    np.testing.assert_array_equal(s["bodies"]["box"]["start"], [0, 0, 0.1, 1, 0, 0, 0])
 
 
 def test_a_hand_pushes_as_the_bus_would():
@@ -95,6 +96,11 @@ def test_a_hand_pushes_as_the_bus_would():
     sim.hands.release(1)
     sim.step(1)
     assert sim.hands.outcome() == [] and sim.hands.active == []
+    # The summary lists the push: one stretch, from the first step it acted to its last.
+    (push,) = sim.summary()["interactions"]
+    assert push["client"] == 1 and push["mode"] == "push"
+    assert push["start"] == pytest.approx(0.011) and push["end"] == pytest.approx(0.211)
+    assert 14 < push["max_force"] < 15.01
 
 
 def test_hand_input_the_gate_rejects_raises():
