@@ -41,6 +41,7 @@ struct Tally {
   double max_penetration = 0.0;
   int max_sweeps = 0;
   double max_residual = 0.0;
+  int64_t polish_rounds = 0;
   double max_robot_force = 0.0;
   int64_t steps_with_several_hands = 0;
   std::vector<Interaction> interactions;            // in order of start (reserved: a push or pull is rare)
@@ -157,6 +158,7 @@ class PySimulation {
     solve.unconverged = s.unconverged;
     solve.max_sweeps = tally_.max_sweeps;
     solve.max_residual = tally_.max_residual;
+    solve.polish_rounds = tally_.polish_rounds;
     solve.warm_dropped = s.warm_dropped;
     solve.restitution_scaled = s.restitution_scaled;
     solve.energy_capped = s.energy_capped;
@@ -247,6 +249,7 @@ class PySimulation {
       tally_.max_penetration = std::max(tally_.max_penetration, c.maxPenetration());
       tally_.max_sweeps = std::max(tally_.max_sweeps, sim_.contactStats().iterations);
       tally_.max_residual = std::max(tally_.max_residual, sim_.contactStats().residual);
+      tally_.polish_rounds += sim_.contactStats().polish_rounds;
     }
     const StepOutcome& o = sim_.outcome();
     tally_.max_robot_force = std::max(tally_.max_robot_force, o.force_on_robot.norm());

@@ -13,6 +13,7 @@ inline nanobind::dict solveFigures(const ScenarioSolveStats& s) {
   d["solves"] = s.solves;
   d["unconverged"] = s.unconverged;
   d["max_sweeps"] = s.max_sweeps;
+  d["polish_rounds"] = s.polish_rounds;
   d["max_residual"] = s.max_residual;
   d["warm_dropped"] = s.warm_dropped;
   d["restitution_scaled"] = s.restitution_scaled;

@@ -20,7 +20,7 @@ import yaml
 
 METRICS = ("final_pose", "final_q", "displacement", "max_penetration", "max_contacts", "max_robot_force",
            "max_user_force", "min_distance_excluding_wall", "reached_wall_time", "collision_steps",
-           "contact_solve.solves", "contact_solve.unconverged", "contact_solve.max_sweeps",
+           "contact_solve.solves", "contact_solve.unconverged", "contact_solve.max_sweeps", "contact_solve.polish_rounds",
            "contact_solve.max_residual", "diverged")
 SPEC_KEYS = {"scene", "script", "seconds", "grid", "random", "metrics", "device_limits"}
 _TOKEN = re.compile(r"([^.\[\]]+)|\[([^\]]*)\]")

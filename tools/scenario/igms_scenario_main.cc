@@ -33,6 +33,7 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                        {{"solves", r.solve.solves},
                         {"unconverged", r.solve.unconverged},
                         {"max_sweeps", r.solve.max_sweeps},
+                        {"polish_rounds", r.solve.polish_rounds},
                         {"max_residual", r.solve.max_residual},
                         {"warm_dropped", r.solve.warm_dropped},
                         {"restitution_scaled", r.solve.restitution_scaled},

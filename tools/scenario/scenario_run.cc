@@ -102,6 +102,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     if (s.contacts > 0) {
       ++out.solve.solves;
       out.solve.max_sweeps = std::max(out.solve.max_sweeps, s.solver_sweeps);
+      out.solve.polish_rounds += solve.polish_rounds;
       out.solve.max_residual = std::max(out.solve.max_residual, s.solver_residual);
     }
     out.solve.unconverged = solve.unconverged;

@@ -32,6 +32,7 @@ struct ScenarioSolveStats {
   int64_t solves = 0;               // steps with contact
   int64_t unconverged = 0;          // solves that stopped at the sweep limit
   int max_sweeps = 0;               // the most sweeps one solve took
+  int64_t polish_rounds = 0;        // the active-set solve's dense solves, over the run
   double max_residual = 0.0;        // m/s, the largest residual a solve ended with
   int64_t warm_dropped = 0;         // warm starts that cost more than a cold one
   int64_t restitution_scaled = 0;   // impacts whose restitution was scaled down to add no energy
