@@ -1,4 +1,4 @@
-// The native part of the igms Python package (igms._igms); python/igms/__init__.py
+// The native part of the igms Python package (igms._igms); python/package/__init__.py
 // adds what is easier said in Python (the hands, contacts as a structured array)
 // and the message types.
 #include <nanobind/nanobind.h>

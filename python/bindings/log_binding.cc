@@ -42,6 +42,35 @@ class PyLog {
   const std::string& error() const { return error_; }
   const std::map<std::string, int64_t>& counts() const { return counts_; }
 
+  // The haptic inputs as columns, by (client, seq).
+  nb::dict inputs() const {
+    const size_t n = session_.inputs.size();
+    VectorX client(n), seq(n), mode(n), utime(n), radius(n);
+    MatrixX tip(n, 3), velocity(n, 3);
+    size_t k = 0;
+    for (const auto& [key, m] : session_.inputs) {
+      client[k] = m.client_id;
+      seq[k] = static_cast<double>(m.seq);
+      mode[k] = m.mode;
+      utime[k] = static_cast<double>(m.utime);
+      radius[k] = m.tip_radius;
+      for (int i = 0; i < 3; ++i) {
+        tip(k, i) = m.tip_position[i];
+        velocity(k, i) = m.tip_velocity[i];
+      }
+      ++k;
+    }
+    nb::dict d;
+    d["client"] = newVector(client.data(), n);
+    d["seq"] = newVector(seq.data(), n);
+    d["mode"] = newVector(mode.data(), n);
+    d["utime"] = newVector(utime.data(), n);
+    d["tip_position"] = newMatrix(tip);
+    d["tip_velocity"] = newMatrix(velocity);
+    d["tip_radius"] = newVector(radius.data(), n);
+    return d;
+  }
+
   // The robot states in step order as columns: seq, t, mode (N,); q (N, nq); v, qdd, tau (N, nv); force (N, 3).
   nb::dict states() const {
     const auto& st = session_.states;
@@ -187,7 +216,9 @@ void bindLog(nb::module_& m) {
       .def_prop_ro("build_version", [](const PyLog& l) { return l.session().info.build_version; })
       .def_prop_ro("clock", [](const PyLog& l) { return l.session().info.clock; })
       .def_prop_ro("dt", [](const PyLog& l) { return l.session().info.dt; })
-      .def_prop_ro("inputs", [](const PyLog& l) { return l.session().inputs.size(); }, "Haptic inputs recorded.")
+      .def_prop_ro("inputs", &PyLog::inputs,
+                   "The haptic inputs, by client and seq: client, seq, mode, utime (N,); tip_position, "
+                   "tip_velocity (N, 3); tip_radius (N,).")
       .def_prop_ro("states", &PyLog::states,
                    "The robot states in step order: seq, t, mode (N,); q (N, nq); v, qdd, tau (N, nv); "
                    "interaction_force (N, 3).");

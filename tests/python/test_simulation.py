@@ -186,7 +186,10 @@ def test_one_simulation_is_not_stepped_by_two_threads_at_once():
 
 def test_a_log_re_simulates_bit_for_bit():
     log = igms.Log("tests/replay/data/push.lcmlog")
-    assert log.has_session and not log.damaged and log.inputs > 0
+    assert log.has_session and not log.damaged
+    inputs = log.inputs
+    assert len(inputs["seq"]) > 100 and inputs["tip_position"].shape == (len(inputs["seq"]), 3)
+    assert set(inputs["mode"]) <= {0, 1, 2} and 1 in set(inputs["mode"])  # it pushes
     states = log.states
     assert states["q"].shape[0] == len(states["t"]) > 100
     r = igms.resimulate(log)
