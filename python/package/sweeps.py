@@ -67,9 +67,10 @@ def run_one(spec, run):
         scene_text, script_text = _scenario_inputs(spec, run["params"])
         scene = igms.Scene.from_yaml(scene_text, os.path.dirname(spec["scene"]),
                                      f"{spec['scene']} (run {run['run']})")
-        sim = igms.Simulation(scene)
-        initial = {b: sim.body(b).position.copy() for b in sim.bodies}
-        del sim
+        initial = {}
+        if "displacement" in spec["metrics"]:  # where each body starts (the scene's own initial state)
+            at_start = igms.Simulation(scene)
+            initial = {b: at_start.body(b).position.copy() for b in at_start.bodies}
         with tempfile.TemporaryDirectory(prefix="igms-sweep-") as tmp:
             script = None
             if script_text is not None:
