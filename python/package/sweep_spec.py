@@ -80,7 +80,10 @@ def load_spec(spec, base_dir="."):
     if isinstance(spec, (str, os.PathLike)):
         source = str(spec)
         with open(spec) as f:
-            spec = yaml.safe_load(f)
+            try:
+                spec = yaml.safe_load(f)
+            except yaml.YAMLError as e:
+                raise SpecError(f"{source}: not YAML: {e}") from None
     if not isinstance(spec, dict):
         raise SpecError(f"{source}: a sweep spec is a mapping")
     spec = copy.deepcopy(spec)

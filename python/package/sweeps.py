@@ -97,11 +97,16 @@ def run_chunk(spec, runs):
     return [run_one(spec, run) for run in runs]
 
 
-def _read_done(path):
-    if not os.path.exists(path):
-        return []
+def read_results(path):
+    """A results.parquet as a DataFrame, read on this thread: Arrow's reading threads can still be running
+    at the interpreter's exit and abort it ("terminate called without an active exception", apache/arrow#34314:
+    4 of 40 igms-sweep runs under load here before this)."""
     import pandas as pd
-    return pd.read_parquet(path).to_dict("records")
+    return pd.read_parquet(path, use_threads=False, pre_buffer=False)
+
+
+def _read_done(path):
+    return read_results(path).to_dict("records") if os.path.exists(path) else []
 
 
 def _write(path, rows):
@@ -157,7 +162,7 @@ def run_sweep(spec, out="out/sweep", address=None, workers=None, progress=True, 
         _write(path, rows)
         if bar:
             bar.close()
-    return pd.read_parquet(path)
+    return read_results(path)
 
 
 def _run_on_ray(spec, todo, address, workers, working_dir, finished):

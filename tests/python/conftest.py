@@ -1,6 +1,7 @@
 """The igms module's tests: run by ctest (label python) with the project's .venv, PYTHONPATH=build/python,
 from the repository's root (so scenes/ and models/ resolve as in the docs)."""
 import os
+import sys
 
 import pytest
 
@@ -18,3 +19,19 @@ def robot(path):
     if not os.path.exists(full):
         pytest.skip(f"{path}: example-robot-data is not fetched (scripts/fetch_robots.sh)")
     return full
+
+
+_exit_status = {}
+
+
+def pytest_sessionfinish(session, exitstatus):
+    _exit_status["code"] = int(exitstatus)
+
+
+def pytest_unconfigure(config):
+    """Out with pytest's own status, without the interpreter's teardown: pyarrow's threads (the sweep tests
+    read Parquet) can abort it after every test has passed (apache/arrow#34314; igms.sweep_cli.run)."""
+    if "code" in _exit_status:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(_exit_status["code"])

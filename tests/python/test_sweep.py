@@ -167,3 +167,6 @@ def test_the_command_line(tmp_path):
     bad.write_text("scene: scenes/box_slide.yaml\ngrid: {materials.wood.friction: [0.1]}\nmetrics: [speed]\n")
     r = subprocess.run(cli + [str(bad), "--out", str(tmp_path / "out2")], capture_output=True, text=True, env=env)
     assert r.returncode == 2 and "unknown metric 'speed'" in r.stderr
+    bad.write_text("scene: scenes/box_slide.yaml\ngrid: {bodies[box].v: [[1, 0, 0]]}\n")  # [ in a flow key
+    r = subprocess.run(cli + [str(bad), "--out", str(tmp_path / "out2")], capture_output=True, text=True, env=env)
+    assert r.returncode == 2 and "bad.yaml: not YAML" in r.stderr and "Traceback" not in r.stderr
