@@ -45,7 +45,7 @@ struct Tally {
   double max_robot_force = 0.0;
   int64_t steps_with_several_hands = 0;
   std::vector<Interaction> interactions;            // in order of start (reserved: a push or pull is rare)
-  std::array<int, kMaxHands> open{-1, -1, -1, -1};  // per client: its interaction going on (-1: none)
+  std::array<int, kMaxHands> open;  // per client: its interaction going on (-1: none; the constructor fills it)
 };
 
 class PySimulation {
@@ -54,6 +54,7 @@ class PySimulation {
       : sim_(scene), bodies_(freeBodyNames()), zero_qdd_(VectorX::Zero(sim_.model().nv)), q_in_(sim_.model().nq),
         v_in_(sim_.model().nv), q_start_(sim_.q()) {
     tally_.interactions.reserve(256);
+    tally_.open.fill(-1);
   }
 
   Simulation& sim() { return sim_; }

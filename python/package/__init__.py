@@ -24,7 +24,6 @@ for _m in _pkgutil.iter_modules(__path__):
 try:
     from ._igms import (Log, Model, ModelError, Scene, SceneError, LogError, SimulationDiverged, resimulate,
                         run_scenario)
-    from ._igms import Simulation as _NativeSimulation
 except ModuleNotFoundError as _e:  # the message types alone (a build without the module)
     if _e.name != __name__ + "._igms":
         raise

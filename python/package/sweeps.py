@@ -12,7 +12,6 @@ import sys
 import tempfile
 import time
 
-import numpy as np
 import yaml
 
 from .sweep_spec import plain, expand, load_spec, set_key
