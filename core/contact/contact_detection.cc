@@ -1,18 +1,28 @@
 #include "core/contact/contact_detection.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/geometry/shape_contact.h"
 
 namespace igms {
 
-ContactDetection::ContactDetection(const ContactModel& model) : cm_(model) {
+ContactDetection::ContactDetection(const ContactModel& model)
+    : cm_(model), broad_phase_(static_cast<int>(model.geoms().size())) {
   const auto& g = cm_.geoms();
   pose_.resize(g.size());
   box_.resize(g.size());
+  centre_.resize(g.size());
+  reach_.resize(g.size());
   for (size_t k = 0; k < g.size(); ++k) {
+    const CollisionShape& s = *g[k].shape;
+    using Kind = CollisionShape::Kind;
+    reach_[k] = s.kind == Kind::Sphere    ? s.size[0]
+                : s.kind == Kind::Capsule ? s.size[0] + 0.5 * s.size[1]
+                : s.kind == Kind::Cylinder ? std::hypot(s.size[0], 0.5 * s.size[1])
+                                          : g[k].box_half.norm();
     if (g[k].plane) planes_.push_back(static_cast<int>(k));
-    else order_.push_back(static_cast<int>(k));
+    else solids_.push_back(static_cast<int>(k));
     if (g[k].body >= 0 && !g[k].plane) moving_.push_back(static_cast<int>(k));
   }
   // Candidates: a few per geom, as many as contact points can be held.
@@ -32,7 +42,8 @@ void ContactDetection::detect(const Data& data, ContactSet& out) {
     const Matrix3& R = pose_[k].R;
     const Vector3 centre = pose_[k].act(g.box_centre);
     const Vector3 half = R.cwiseAbs() * g.box_half + Vector3::Constant(0.5 * margin);
-    box_[k] = Box{centre - half, centre + half};
+    box_[k] = Aabb{centre - half, centre + half};
+    centre_[k] = centre;
   }
   npairs_ = 0;
   auto candidate = [&](int i, int j) {
@@ -44,40 +55,18 @@ void ContactDetection::detect(const Data& data, ContactSet& out) {
     }
     pairs_[static_cast<size_t>(npairs_++)] = {i, j};
   };
-  // Sweep along the axis where the boxes spread most; insertion sort keeps last step's order cheap.
-  int axis = 0;
-  {
-    Vector3 lo = Vector3::Constant(1e300), hi = -lo;
-    for (int k : order_) {
-      lo = lo.cwiseMin(box_[static_cast<size_t>(k)].lo);
-      hi = hi.cwiseMax(box_[static_cast<size_t>(k)].hi);
-    }
-    (hi - lo).maxCoeff(&axis);
-  }
-  for (size_t i = 1; i < order_.size(); ++i) {
-    const int key = order_[i];
-    const double at = box_[static_cast<size_t>(key)].lo[axis];
-    size_t j = i;
-    while (j > 0 && box_[static_cast<size_t>(order_[j - 1])].lo[axis] > at) {
-      order_[j] = order_[j - 1];
-      --j;
-    }
-    order_[j] = key;
-  }
-  for (size_t i = 0; i < order_.size(); ++i) {
-    const Box& a = box_[static_cast<size_t>(order_[i])];
-    for (size_t j = i + 1; j < order_.size(); ++j) {
-      const Box& b = box_[static_cast<size_t>(order_[j])];
-      if (b.lo[axis] > a.hi[axis]) break;
-      if ((b.lo.array() <= a.hi.array()).all() && (a.lo.array() <= b.hi.array()).all()) candidate(order_[i], order_[j]);
-    }
-  }
+  // Boxes of round shapes overlap where the shapes are far apart (a lattice's diagonal neighbours):
+  // their bounding spheres too.
+  broad_phase_.overlaps(solids_, box_, [&](int i, int j) {
+    const double reach = reach_[static_cast<size_t>(i)] + reach_[static_cast<size_t>(j)] + margin;
+    if ((centre_[static_cast<size_t>(i)] - centre_[static_cast<size_t>(j)]).squaredNorm() < reach * reach) candidate(i, j);
+  });
   // Planes against every moving geom whose box reaches below them.
   for (int p : planes_) {
     const Vector3 n = pose_[static_cast<size_t>(p)].R.col(2);
     const double offset = n.dot(pose_[static_cast<size_t>(p)].p);
     for (int k : moving_) {
-      const Box& b = box_[static_cast<size_t>(k)];
+      const Aabb& b = box_[static_cast<size_t>(k)];
       const Vector3 centre = 0.5 * (b.lo + b.hi), half = 0.5 * (b.hi - b.lo);
       if (n.dot(centre) - n.cwiseAbs().dot(half) - offset < 0.5 * margin) candidate(p, k);
     }

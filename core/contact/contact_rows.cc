@@ -79,6 +79,7 @@ double patchRadius(const ContactSet& contacts, int first, int end, const Contact
 
 ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : model_(model), cm_(contacts) {
   body_chain_.resize(static_cast<size_t>(model.nb));
+  twist_.resize(static_cast<size_t>(model.nb));
   part_of_body_.resize(static_cast<size_t>(model.nb));
   int deepest = 0;
   for (int b = 0; b < model.nb; ++b) {
@@ -104,15 +105,19 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
   tree_touched_.assign(model.parts.size(), 0);
 }
 
-// Each pair's rows: their Jacobian on the pair's chains, X = L^-T J^T there, its own W block, its
-// velocities and targets.
+// Each pair: its points' patch, normal and tangents; and its rows now (normals: J, velocities,
+// targets) unless every point is apart and not closing, when they wait until a solve needs them.
 int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
                        const VectorX& v) {
   data_ = &data;
+  contacts_ = &contacts;
+  v0_ = &v0;
+  h_ = h;
+  entry_ = value_ = 0;
   const int nc = contacts.n;
-  const double bounce_velocity = cm_.settings().bounce_velocity;
   std::fill(tree_count_.begin(), tree_count_.end(), 0);
-  int ng = 0, entry = 0, value = 0;
+  int ng = 0;
+  twists(v, twist_);  // for the pairs that may wait: their speeds without their rows
   for (int i = 0; i < nc;) {
     // A group: the pair's next points whose normals agree with its first (one flat patch). Points of
     // one pair facing other ways (a peg between a slot's two walls: normals that cancel when averaged)
@@ -151,87 +156,111 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
     g.n = normal.normalized();
     tangents(g.n, g.t1, g.t2);
     g.radius = patchRadius(contacts, i, end, g);
-    // The dofs: the union of both bodies' chains, ascending; each with its side's sign.
-    static const std::vector<int> kNone;
-    const std::vector<int>& ca = c0.body_a >= 0 ? body_chain_[static_cast<size_t>(c0.body_a)] : kNone;
-    const std::vector<int>& cb = c0.body_b >= 0 ? body_chain_[static_cast<size_t>(c0.body_b)] : kNone;
-    g.first_entry = entry;
-    g.first_value = value;
-    double* const sign = sign_.data();  // per entry (both chains: max_entries_ at most)
-    size_t ia = 0, ib = 0;
-    int count = 0;
-    while (ia < ca.size() || ib < cb.size()) {
-      int k;
-      double s;
-      if (ib >= cb.size() || (ia < ca.size() && ca[ia] < cb[ib])) {
-        k = ca[ia++];
-        s = -1.0;
-      } else if (ia >= ca.size() || cb[ib] < ca[ia]) {
-        k = cb[ib++];
-        s = 1.0;
-      } else {
-        // A dof moving both sides (a robot touching itself: the floating base, a common hip) moves the
-        // two points alike, so J is zero there; but A^-1 J^T is not: the reaction reaches every
-        // ancestor, and X = L^-T J^T must run up through it (left out, the robot's momentum changed).
-        k = ca[ia++];
-        ++ib;
-        s = 0.0;
-      }
-      dof_[static_cast<size_t>(entry + count)] = k;
-      invD_[static_cast<size_t>(entry + count)] = 1.0 / LD.diagonal(k);
-      sign[count] = s;
-      ++count;
-    }
-    g.entries = count;
-    // J: a row per normal, then the friction rows (at the point, or the patch's centroid).
-    // Each row as a spatial vector [d; p x d] (the velocity of point p along d is its dot with the
-    // dof's world twist [v; w]); a torsion row [0; n].
-    const int P = g.points;
-    Vector6 row[kMaxPairPoints];
-    for (int k = 0; k < P; ++k) row[k] << contacts[i + k].normal, contacts[i + k].point.cross(contacts[i + k].normal);
-    // The normal rows now (whether the pair is in the solve at all), the friction rows in complete().
-    for (int e = 0; e < count; ++e) {
-      const Eigen::Map<const Vector6> S(data.S_world.col(dof_[static_cast<size_t>(entry + e)]).data());
-      double* const J = J_.data() + value;
-      for (int r = 0; r < P; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
-      sign_of_[static_cast<size_t>(entry + e)] = sign[e];
-    }
-    // Velocities and targets.
-    g.b.setZero();
-    g.target.setZero();
-    g.sigma.setZero();
-    g.impact.setZero();
-    for (int r = 0; r < P; ++r) {
-      const double* const J = J_.data() + value + r * count;
-      double b = 0.0;
-      for (int e = 0; e < count; ++e) b += J[e] * v[dof_[static_cast<size_t>(entry + e)]];
-      g.b[r] = b;
-    }
-    for (int k = 0; k < P; ++k) {
-      const Contact& c = contacts[i + k];
-      const double* const J = J_.data() + value + k * count;
-      double u0 = 0.0;
-      for (int e = 0; e < count; ++e) u0 += J[e] * v0[dof_[static_cast<size_t>(entry + e)]];
-      g.approach[k] = -u0;
-      // An impact that bounces: fast enough, and it reaches the surface within this step.
-      g.bounce[k] = bouncesAt(c, g.approach[k], g.b[k], h, bounce_velocity);
-      g.bounce_target[k] = c.restitution * g.approach[k];
-      g.target[k] = g.bounce[k] ? g.bounce_target[k] : -std::max(c.distance, 0.0) / h;
-    }
     g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
     g.complete = false;
-    entry += count;
-    value += g.rows * count;
+    g.built = false;
+    g.impact.setZero();
+    std::fill(g.bounce, g.bounce + kMaxPairPoints, false);
+    bool apart = true;
+    for (int k = i; k < end && apart; ++k)
+      apart = contacts[k].distance > 0.0 && contacts[k].distance + h * twistSpeed(contacts[k], twist_) > 0.0;
+    if (!apart) buildRows(g, LD, v);
     i = end;
   }
   ngroups_ = ng;
   return ng;
 }
 
+// Group g's normal rows: its dofs (both chains), J's normal rows, their velocities under v, approach
+// speeds under v0, bounces and targets.
+void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX& v) {
+  const ContactSet& contacts = *contacts_;
+  const Data& data = *data_;
+  const VectorX& v0 = *v0_;
+  const double h = h_;
+  const double bounce_velocity = cm_.settings().bounce_velocity;
+  const int i = g.first;
+  const Contact& c0 = contacts[i];
+  int entry = entry_, value = value_;
+  // The dofs: the union of both bodies' chains, ascending; each with its side's sign.
+  static const std::vector<int> kNone;
+  const std::vector<int>& ca = c0.body_a >= 0 ? body_chain_[static_cast<size_t>(c0.body_a)] : kNone;
+  const std::vector<int>& cb = c0.body_b >= 0 ? body_chain_[static_cast<size_t>(c0.body_b)] : kNone;
+  g.first_entry = entry;
+  g.first_value = value;
+  double* const sign = sign_.data();  // per entry (both chains: max_entries_ at most)
+  size_t ia = 0, ib = 0;
+  int count = 0;
+  while (ia < ca.size() || ib < cb.size()) {
+    int k;
+    double s;
+    if (ib >= cb.size() || (ia < ca.size() && ca[ia] < cb[ib])) {
+      k = ca[ia++];
+      s = -1.0;
+    } else if (ia >= ca.size() || cb[ib] < ca[ia]) {
+      k = cb[ib++];
+      s = 1.0;
+    } else {
+      // A dof moving both sides (a robot touching itself: the floating base, a common hip) moves the
+      // two points alike, so J is zero there; but A^-1 J^T is not: the reaction reaches every
+      // ancestor, and X = L^-T J^T must run up through it (left out, the robot's momentum changed).
+      k = ca[ia++];
+      ++ib;
+      s = 0.0;
+    }
+    dof_[static_cast<size_t>(entry + count)] = k;
+    invD_[static_cast<size_t>(entry + count)] = 1.0 / LD.diagonal(k);
+    sign[count] = s;
+    ++count;
+  }
+  g.entries = count;
+  // J: a row per normal, then the friction rows (at the point, or the patch's centroid).
+  // Each row as a spatial vector [d; p x d] (the velocity of point p along d is its dot with the
+  // dof's world twist [v; w]); a torsion row [0; n].
+  const int P = g.points;
+  Vector6 row[kMaxPairPoints];
+  for (int k = 0; k < P; ++k) row[k] << contacts[i + k].normal, contacts[i + k].point.cross(contacts[i + k].normal);
+  // The normal rows now (whether the pair is in the solve at all), the friction rows in complete().
+  for (int e = 0; e < count; ++e) {
+    const Eigen::Map<const Vector6> S(data.S_world.col(dof_[static_cast<size_t>(entry + e)]).data());
+    double* const J = J_.data() + value;
+    for (int r = 0; r < P; ++r) J[r * count + e] = sign[e] * row[r].dot(S);
+    sign_of_[static_cast<size_t>(entry + e)] = sign[e];
+  }
+  // Velocities and targets.
+  g.b.setZero();
+  g.target.setZero();
+  g.sigma.setZero();
+  g.impact.setZero();
+  for (int r = 0; r < P; ++r) {
+    const double* const J = J_.data() + value + r * count;
+    double b = 0.0;
+    for (int e = 0; e < count; ++e) b += J[e] * v[dof_[static_cast<size_t>(entry + e)]];
+    g.b[r] = b;
+  }
+  for (int k = 0; k < P; ++k) {
+    const Contact& c = contacts[i + k];
+    const double* const J = J_.data() + value + k * count;
+    double u0 = 0.0;
+    for (int e = 0; e < count; ++e) u0 += J[e] * v0[dof_[static_cast<size_t>(entry + e)]];
+    g.approach[k] = -u0;
+    // An impact that bounces: fast enough, and it reaches the surface within this step.
+    g.bounce[k] = bouncesAt(c, g.approach[k], g.b[k], h, bounce_velocity);
+    g.bounce_target[k] = c.restitution * g.approach[k];
+    g.target[k] = g.bounce[k] ? g.bounce_target[k] : -std::max(c.distance, 0.0) / h;
+  }
+  entry += count;
+  value += g.rows * count;
+  entry_ = entry;
+  value_ = value;
+  g.built = true;
+}
+
 void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) {
   ContactGroup& g = groups_[static_cast<size_t>(gi)];
   if (g.complete) return;
+  if (!g.built) buildRows(g, LD, v_free);
   const int P = g.points;
   // The friction rows of J (at the point, or the patch's centroid; a torsion row [0; n]) and their
   // velocities under v_free.
@@ -306,6 +335,28 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   if (g.tree_b >= 0 && g.tree_b != g.tree_a)
   tree_groups_[static_cast<size_t>(g.tree_b)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_b)]++)] = gi;
   g.complete = true;
+}
+
+void ContactRows::twists(const VectorX& v, std::vector<Motion>& out) const {
+  const Matrix6X& S = data_->S_world;
+  for (int b = 0; b < model_.nb; ++b) {
+    const int p = model_.parent[b];
+    Motion t = p < 0 ? Motion::Zero() : out[static_cast<size_t>(p)];
+    for (int k = model_.v_index[b]; k < model_.v_index[b] + model_.joint_nv[b]; ++k) {
+      t.v += S.col(k).head<3>() * v[k];
+      t.w += S.col(k).tail<3>() * v[k];
+    }
+    out[static_cast<size_t>(b)] = t;
+  }
+}
+
+double ContactRows::twistSpeed(const Contact& c, const std::vector<Motion>& twist) {
+  auto at = [&](int body) {
+    if (body < 0) return Vector3(Vector3::Zero());
+    const Motion& t = twist[static_cast<size_t>(body)];
+    return Vector3(t.v + t.w.cross(c.point));
+  };
+  return c.normal.dot(at(c.body_b) - at(c.body_a));
 }
 
 bool ContactRows::separating(const ContactGroup& g, const ContactSet& contacts, double h) const {

@@ -38,6 +38,7 @@ struct ContactGroup {
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
   int first_value = 0;               // its rows' J and X: rows x entries, row-major
   int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
+  bool built = false;                // its normal rows formed (build() did, or complete() will)
   bool complete = false;             // its X, W and friction block formed (complete()): in the solve
   ContactBlock W;                    // its own Delassus block
   Eigen::Matrix3d friction_inverse;  // of the friction rows' block (stick)
@@ -71,15 +72,22 @@ class ContactRows {
  public:
   ContactRows(const Model& model, const ContactModel& contacts);
 
-  // Each pair's normal rows of J from the step's start (data: S_world from the inertia matrix's pass;
-  // kept until the solve ends), A's diagonal from its factors LD (ltdl.h), their velocities
-  // b = J v_free (h, v0: the start velocity), targets and bounces. \return the number of groups. None
-  // is in the solve until complete().
+  // Each pair's group, and its normal rows of J from the step's start (data: S_world from the inertia
+  // matrix's pass; data, contacts and v0 kept until the solve ends), A's diagonal from its factors LD
+  // (ltdl.h), their velocities b = J v_free (h, v0: the start velocity), targets and bounces. A pair
+  // whose every point is apart and not closing under v_free (its speed from the bodies' twists) gets
+  // no rows yet (built false: most of a crowded scene's pairs, which wait outside the solve);
+  // complete() forms them. \return the number of groups. None is in the solve until complete().
   int build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
             const VectorX& v_free);
   // Group g's friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and
   // its friction block: in the solve from now on.
   void complete(int g, const TreeMatrix& LD, const VectorX& v_free);
+  // Every body's world twist under v (rows [v; w]: a point p moves at v + w x p), into out (nb).
+  void twists(const VectorX& v, std::vector<Motion>& out) const;
+  // The normal speed of contact c (b's point against a's) from the bodies' twists: J_c v, summed
+  // another way (round-off apart).
+  static double twistSpeed(const Contact& c, const std::vector<Motion>& twist);
   // Every point of g apart and not closing under v_free within the step (gap + h J v_free > 0), no
   // bounce: a pair the solve may leave out while its impulse is zero (checked after it: a pair that
   // the others' impulses push across is let in, and the solve taken again).
@@ -119,7 +127,13 @@ class ContactRows {
   std::vector<double> J_, X_;                 // per group: rows x entries, row-major
   std::vector<double> sign_;                  // build(): per entry of one group, its side (-1 a, +1 b, 0 both)
   std::vector<double> sign_of_;               // per group entry: that side, kept for complete()
+  void buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX& v);
   const Data* data_ = nullptr;                // the step's start, from build()
+  const ContactSet* contacts_ = nullptr;      // the step's contacts, from build()
+  const VectorX* v0_ = nullptr;               // the step's start velocity, from build()
+  double h_ = 0.0;
+  int entry_ = 0, value_ = 0;                 // the next group's first entry and value
+  std::vector<Motion> twist_;                 // build(): per body, under v_free
   std::vector<int> up_;                       // build(): per entry, its parent dof's entry (-1: none)
   std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
   std::vector<int> tree_count_;

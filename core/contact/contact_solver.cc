@@ -21,6 +21,7 @@ ContactSolver::ContactSolver(const Model& model, const ContactModel& contacts)
       z_(VectorX::Zero(model.nv)),
       zs_(VectorX::Zero(model.nv)),
       v_free_(VectorX::Zero(model.nv)),
+      twist_(static_cast<size_t>(model.nb)),
       previous_(static_cast<size_t>(contacts.capacity())),
       settings_(contacts.settings()) {}
 
@@ -264,7 +265,7 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   stats_.deferred = 0;
   for (int g = 0; g < ng; ++g) {
     ContactGroup& G = rows_.group(g);
-    if (G.lambda.isZero(0.0) && rows_.separating(G, contacts, h)) {
+    if (G.lambda.isZero(0.0) && (!G.built || rows_.separating(G, contacts, h))) {
       ++stats_.deferred;
       continue;
     }
@@ -313,12 +314,16 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
     if (stats_.deferred == 0) break;
     // A waiting pair whose end gap the solve's v+ closes comes in (all of them after kLetIn tries).
     int let_in = 0;
+    rows_.twists(v, twist_);
     for (int g = 0; g < ng; ++g) {
       ContactGroup& G = rows_.group(g);
       if (G.complete) continue;
       bool crosses = pass >= kLetIn;
-      for (int k = 0; k < G.points && !crosses; ++k)
-        crosses = contacts[G.first + k].distance + h * rows_.normalSpeed(G, k, v) < -h * settings_.tolerance;
+      for (int k = 0; k < G.points && !crosses; ++k) {
+        const Contact& c = contacts[G.first + k];
+        const double u = G.built ? rows_.normalSpeed(G, k, v) : ContactRows::twistSpeed(c, twist_);
+        crosses = c.distance + h * u < -h * settings_.tolerance;
+      }
       if (!crosses) continue;
       rows_.complete(g, LD, v_free_);
       --stats_.deferred;

@@ -87,6 +87,7 @@ class ContactSolver {
   ContactActiveSet active_;
   VectorX z_, zs_;  // the impulses' and the pseudo-impulses' accumulators (contact_rows.h)
   VectorX v_free_;  // the solve's input, kept to solve again when a pair left out is let in
+  std::vector<Motion> twist_;  // the bodies' twists under v+, for the pairs left out without rows
   double restitution_scale_ = 1.0;  // the factor keepEnergy() took, for the bounce's position
   // The last step's contacts, for the warm start: pair, point, normal impulse; and per pair its
   // friction (world force at the centroid, torsion about the normal).

@@ -399,10 +399,23 @@ int reduce(const Candidates& c, ContactPoint* out) {
   return keep;
 }
 
+// Two spheres: their centres' line, exactly (the crowded scene's pair: no candidates to reduce).
+int spheres(const SE3& pa, double ra, const SE3& pb, double rb, double margin, ContactPoint* out) {
+  const Vector3 d = pb.p - pa.p;
+  const double len2 = d.squaredNorm(), reach = ra + rb + margin;
+  if (!(len2 < reach * reach)) return 0;
+  const double len = std::sqrt(len2);
+  // Concentric: b's own z, as the point query against b gives it.
+  const Vector3 n = len > 1e-15 ? Vector3(d / len) : Vector3(-pb.R.col(2));
+  out[0] = ContactPoint{0.5 * ((pa.p + ra * n) + (pb.p - rb * n)), n, len - ra - rb};
+  return 1;
+}
+
 }  // namespace
 
 int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb, double margin,
                   ContactPoint* out) {
+  if (a.kind == Kind::Sphere && b.kind == Kind::Sphere) return spheres(pa, a.size[0], pb, b.size[0], margin, out);
   if (b.kind == Kind::Plane && a.kind != Kind::Plane) {
     const int n = shapeContacts(b, pb, a, pa, margin, out);
     for (int k = 0; k < n; ++k) out[k].normal = -out[k].normal;
