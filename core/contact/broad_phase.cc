@@ -7,7 +7,6 @@ namespace igms {
 
 namespace {
 
-constexpr size_t kAllAgainstAll = 32;  // boxes: fewer than this, no grid
 constexpr double kLarge = 4.0;         // a box this many times the median's side is tested against all
 constexpr double kFarthest = 1e15;     // cells: a centre beyond this many is tested against all
 
@@ -22,6 +21,7 @@ BroadPhase::BroadPhase(int capacity) {
   cell_.resize(n);
   bucket_of_.resize(n);
   slot_.resize(n);
+  order_.reserve(n);
   size_t buckets = 1;
   while (buckets < 2 * n) buckets *= 2;
   bucket_start_.resize(buckets + 1);
@@ -38,7 +38,7 @@ bool BroadPhase::bin(const std::vector<int>& ids, const std::vector<Aabb>& box) 
   const size_t n = ids.size();
   small_.clear();
   large_.clear();
-  if (n < kAllAgainstAll || n > extent_.size()) return false;
+  if (n < kGrid || n > extent_.size()) return false;
   for (size_t k = 0; k < n; ++k) {
     const Aabb& b = box[static_cast<size_t>(ids[k])];
     extent_[k] = (b.hi - b.lo).maxCoeff();

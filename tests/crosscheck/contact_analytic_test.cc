@@ -456,7 +456,9 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
     if (part.name == "go1") go1_z = part.q_begin + 2;
   ASSERT_GE(go1_z, 0);
   double overlap = 0.0, trunk_at_4 = 0.0;
+  Vector3 last_v[2];
   for (int k = 1; k <= 8000; ++k) {
+    if (k == 8000) last_v[0] = body(sim, "box_a").v, last_v[1] = body(sim, "box_b").v;
     ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
     overlap = std::max(overlap, sim.contacts().maxPenetration());
     if (k == 4000) trunk_at_4 = sim.q()[go1_z];
@@ -474,9 +476,16 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
   EXPECT_GT(b.p.z(), table_top + half - 1e-4) << "box_b is not pushed into the table";
   EXPECT_GT(std::max(turned(a), turned(b)), 0.8) << "the arm knocked a box over";
   for (const FreeBodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
-  // At rest, each box's contacts carry its weight, whatever they are.
-  for (const char* name : {"box_a", "box_b"})
-    EXPECT_LT((contactForceOn(sim, name) - Vector3(0, 0, 0.3 * g)).norm(), 1e-6 * 0.3 * g) << name;
+  // Each box's contacts carry its weight and what it still gains in momentum, whatever they are (a
+  // box pinched between the forearm and the table's edge can still be settling, at a few um/s, as
+  // the arm's joints give under it): m dv = (F_contact - m g) h over the last step.
+  for (int k = 0; k < 2; ++k) {
+    const char* name = k == 0 ? "box_a" : "box_b";
+    const Vector3 gained = 0.3 * (body(sim, name).v - last_v[k]) / sim.scene().dt;
+    std::printf("%s: %.2e m/s, contact force %.9f N against weight and momentum's change %.9f N\n", name,
+                body(sim, name).v.norm(), contactForceOn(sim, name).norm(), (gained + Vector3(0, 0, 0.3 * g)).norm());
+    EXPECT_LT((contactForceOn(sim, name) - gained - Vector3(0, 0, 0.3 * g)).norm(), 1e-6 * 0.3 * g) << name;
+  }
   // Nothing resists rolling here, so the ball rolls on along the floor: without slipping.
   const Vector3 slip = ball.v + ball.w.cross(Vector3(0, 0, -half));
   std::printf("the ball rolls at %.3f m/s, its contact point slips at %.2e m/s\n", ball.v.norm(), slip.norm());

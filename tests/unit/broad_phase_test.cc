@@ -1,6 +1,7 @@
 // The broad phase (broad_phase.h) finds exactly the overlapping pairs that testing every pair finds,
-// each once: boxes of mixed sizes (a few very large, some far away, some not finite), a lattice whose
-// boxes touch at exactly a cell's width, and a handful below the grid's size. And it does not
+// each once, on both of its paths (the sweep below BroadPhase::kGrid boxes, the grid from there):
+// boxes of mixed sizes (a few very large, some far away, some not finite), a lattice whose boxes
+// touch at exactly a cell's width, before and after it moves, and a handful. And it does not
 // allocate once built.
 #include <gtest/gtest.h>
 
@@ -67,19 +68,24 @@ TEST(BroadPhase, FindsWhatEveryPairFindsAmongMixedSizes) {
 
 TEST(BroadPhase, LatticeTouchingAtACellsWidth) {
   // Boxes of side 0.1 at 0.1 apart: every face, edge and corner neighbour touches exactly, on the
-  // cells' boundaries (the grid's worst case for rounding).
-  std::vector<Aabb> box;
-  std::vector<int> ids;
-  for (int x = 0; x < 8; ++x)
-    for (int y = 0; y < 8; ++y)
-      for (int z = 0; z < 8; ++z) {
-        ids.push_back(static_cast<int>(box.size()));
-        box.push_back(around(Vector3(0.1 * x - 0.35, 0.1 * y + 1e3, 0.1 * z), Vector3::Constant(0.05)));
-      }
-  BroadPhase bp(static_cast<int>(box.size()));
-  const Pairs expected = everyPair(ids, box);
-  EXPECT_GE(expected.size(), 3u * 7 * 64) << "at least the face neighbours";
-  EXPECT_EQ(broadPhase(bp, ids, box), expected);
+  // cells' boundaries (the grid's worst case for rounding). 4^3 boxes: the sweep; 8^3: the grid.
+  for (const int side : {4, 8}) {
+    std::vector<Aabb> box;
+    std::vector<int> ids;
+    for (int x = 0; x < side; ++x)
+      for (int y = 0; y < side; ++y)
+        for (int z = 0; z < side; ++z) {
+          ids.push_back(static_cast<int>(box.size()));
+          box.push_back(around(Vector3(0.1 * x - 0.35, 0.1 * y + 1e3, 0.1 * z), Vector3::Constant(0.05)));
+        }
+    BroadPhase bp(static_cast<int>(box.size()));
+    const Pairs expected = everyPair(ids, box);
+    EXPECT_GE(expected.size(), 3u * (side - 1) * side * side) << "at least the face neighbours";
+    EXPECT_EQ(broadPhase(bp, ids, box), expected) << side;
+    // Moved (the sweep's kept order is now out of date): the same pairs as every pair finds.
+    for (Aabb& b : box) b.lo.x() = -b.lo.x(), b.hi.x() = -b.hi.x(), std::swap(b.lo.x(), b.hi.x());
+    EXPECT_EQ(broadPhase(bp, ids, box), everyPair(ids, box)) << side << ", mirrored";
+  }
 }
 
 TEST(BroadPhase, AFewBoxesAndNone) {
