@@ -1,8 +1,8 @@
 #include "core/contact/contact_detection.h"
 
 #include <algorithm>
-#include <cmath>
 
+#include "core/geometry/shape_bounds.h"
 #include "core/geometry/shape_contact.h"
 
 namespace igms {
@@ -15,12 +15,7 @@ ContactDetection::ContactDetection(const ContactModel& model)
   centre_.resize(g.size());
   reach_.resize(g.size());
   for (size_t k = 0; k < g.size(); ++k) {
-    const CollisionShape& s = *g[k].shape;
-    using Kind = CollisionShape::Kind;
-    reach_[k] = s.kind == Kind::Sphere    ? s.size[0]
-                : s.kind == Kind::Capsule ? s.size[0] + 0.5 * s.size[1]
-                : s.kind == Kind::Cylinder ? std::hypot(s.size[0], 0.5 * s.size[1])
-                                          : g[k].box_half.norm();
+    reach_[k] = boundingRadius(*g[k].shape);
     if (g[k].plane) planes_.push_back(static_cast<int>(k));
     else solids_.push_back(static_cast<int>(k));
     if (g[k].body >= 0 && !g[k].plane) moving_.push_back(static_cast<int>(k));

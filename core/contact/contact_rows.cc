@@ -232,7 +232,6 @@ void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX
   g.b.setZero();
   g.target.setZero();
   g.sigma.setZero();
-  g.impact.setZero();
   for (int r = 0; r < P; ++r) {
     const double* const J = J_.data() + value + r * count;
     double b = 0.0;

@@ -1,5 +1,6 @@
 #include "core/geometry/shape_bounds.h"
 
+#include <cmath>
 #include <limits>
 
 namespace igms {
@@ -29,6 +30,19 @@ void boundingBox(const CollisionShape& s, Vector3& centre, Vector3& half) {
       return;
     }
     case CollisionShape::Kind::Plane: half.setZero(); return;
+  }
+}
+
+double boundingRadius(const CollisionShape& s) {
+  switch (s.kind) {
+    case CollisionShape::Kind::Sphere: return s.size[0];
+    case CollisionShape::Kind::Capsule: return s.size[0] + 0.5 * s.size[1];
+    case CollisionShape::Kind::Cylinder: return std::hypot(s.size[0], 0.5 * s.size[1]);
+    default: {
+      Vector3 centre, half;
+      boundingBox(s, centre, half);
+      return half.norm();
+    }
   }
 }
 
