@@ -56,7 +56,8 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
     all = polishIsland(rows, n, tolerance) && all;
   }
   // z for the impulses as they now are (an island that took its solve changed them, whatever the others did).
-  for (int g = 0; g < ng; ++g) rows.clear(rows.group(g), z);
+  for (int g = 0; g < ng; ++g)  // z is zero but on the dofs of the groups in the solve
+    if (rows.group(g).complete) rows.clear(rows.group(g), z);
   for (int g = 0; g < ng; ++g)
     if (rows.group(g).complete) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
   return all;

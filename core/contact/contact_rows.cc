@@ -136,26 +136,7 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
     g.roll_mu = g.resists ? c0.rolling : 0.0;
     g.rows = g.points + (g.patch ? 3 : g.resists ? 5 : 2);
     g.mu = c0.friction;
-    // The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
-    // within kPatchDepth of the deepest (a lying cylinder's two rim ends, not a rim point above them
-    // that the margin let in: friction there would roll it about the wrong line).
-    double deepest = contacts[i].distance;
-    for (int k = i + 1; k < end; ++k) deepest = std::min(deepest, contacts[k].distance);
-    g.centroid.setZero();
-    Vector3 normal = Vector3::Zero();
-    int touching = 0;
-    for (int k = i; k < end; ++k) {
-      g.carries[k - i] = contacts[k].distance <= deepest + kPatchDepth;
-      if (g.carries[k - i]) {
-        g.centroid += contacts[k].point;
-        normal += contacts[k].normal;
-        ++touching;
-      }
-    }
-    g.centroid /= touching;
-    g.n = normal.normalized();
-    tangents(g.n, g.t1, g.t2);
-    g.radius = patchRadius(contacts, i, end, g);
+    g.framed = false;
     g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
     g.complete = false;
@@ -172,6 +153,33 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
   return ng;
 }
 
+// The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
+// within kPatchDepth of the deepest (a lying cylinder's two rim ends, not a rim point above them that
+// the margin let in: friction there would roll it about the wrong line).
+void ContactRows::frame(ContactGroup& g) const {
+  if (g.framed) return;
+  const ContactSet& contacts = *contacts_;
+  const int i = g.first, end = g.first + g.points;
+  double deepest = contacts[i].distance;
+  for (int k = i + 1; k < end; ++k) deepest = std::min(deepest, contacts[k].distance);
+  g.centroid.setZero();
+  Vector3 normal = Vector3::Zero();
+  int touching = 0;
+  for (int k = i; k < end; ++k) {
+    g.carries[k - i] = contacts[k].distance <= deepest + kPatchDepth;
+    if (g.carries[k - i]) {
+      g.centroid += contacts[k].point;
+      normal += contacts[k].normal;
+      ++touching;
+    }
+  }
+  g.centroid /= touching;
+  g.n = normal.normalized();
+  tangents(g.n, g.t1, g.t2);
+  g.radius = g.patch ? patchRadius(contacts, i, end, g) : 0.0;
+  g.framed = true;
+}
+
 // Group g's normal rows: its dofs (both chains), J's normal rows, their velocities under v, approach
 // speeds under v0, bounces and targets.
 void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX& v) {
@@ -182,6 +190,7 @@ void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX
   const double bounce_velocity = cm_.settings().bounce_velocity;
   const int i = g.first;
   const Contact& c0 = contacts[i];
+  frame(g);
   int entry = entry_, value = value_;
   // The dofs: the union of both bodies' chains, ascending; each with its side's sign.
   static const std::vector<int> kNone;
@@ -305,8 +314,7 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
       for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(g.first_entry + a)]] * xk;
     }
   }
-  g.W.setZero();
-  for (int r = 0; r < g.rows; ++r)
+  for (int r = 0; r < g.rows; ++r)  // every entry any solve reads (its rows x rows): no zeroing
     for (int s = r; s < g.rows; ++s) {
       const double* const xr = X_.data() + g.first_value + r * g.entries;
       const double* const xs = X_.data() + g.first_value + s * g.entries;

@@ -38,6 +38,7 @@ struct ContactGroup {
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
   int first_value = 0;               // its rows' J and X: rows x entries, row-major
   int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
+  bool framed = false;               // centroid, n, t1, t2, radius and carries set (frame())
   bool built = false;                // its normal rows formed (build() did, or complete() will)
   bool complete = false;             // its X, W and friction block formed (complete()): in the solve
   ContactBlock W;                    // its own Delassus block
@@ -76,13 +77,16 @@ class ContactRows {
   // matrix's pass; data, contacts and v0 kept until the solve ends), A's diagonal from its factors LD
   // (ltdl.h), their velocities b = J v_free (h, v0: the start velocity), targets and bounces. A pair
   // whose every point is apart and not closing under v_free (its speed from the bodies' twists) gets
-  // no rows yet (built false: most of a crowded scene's pairs, which wait outside the solve);
-  // complete() forms them. \return the number of groups. None is in the solve until complete().
+  // no rows and no frame yet (built false: most of a crowded scene's pairs, which wait outside the
+  // solve); complete() forms them. \return the number of groups. None is in the solve until complete().
   int build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
             const VectorX& v_free);
   // Group g's friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and
   // its friction block: in the solve from now on.
   void complete(int g, const TreeMatrix& LD, const VectorX& v_free);
+  // g's centroid, normal, tangents, torsion radius and carrying points, once a step: a pair that
+  // waits outside the solve with no impulse to start from never needs them (build() leaves them).
+  void frame(ContactGroup& g) const;
   // Every body's world twist under v (rows [v; w]: a point p moves at v + w x p), into out (nb).
   void twists(const VectorX& v, std::vector<Motion>& out) const;
   // The normal speed of contact c (b's point against a's) from the bodies' twists: J_c v, summed

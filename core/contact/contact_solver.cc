@@ -52,6 +52,8 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
     }
     if (!found) continue;
     const Previous& prev = previous_[static_cast<size_t>(p)];
+    if (prev.friction.isZero(0.0) && prev.torsion == 0.0) continue;  // none to carry over (a pair that waited)
+    rows_.frame(g);
     const int P = g.points;
     double N = 0.0;
     for (int k = 0; k < P; ++k) N += g.lambda[k];
@@ -73,6 +75,15 @@ void ContactSolver::report(ContactSet& contacts) {
   for (int gi = 0; gi < ng; ++gi) {
     const ContactGroup& g = rows_.group(gi);
     const int P = g.points;
+    if (!g.framed) {  // waited outside the solve, no impulse: nor is there one to report
+      for (int k = 0; k < P; ++k) {
+        Contact& c = contacts[g.first + k];
+        c.impulse.setZero();
+        c.moment.setZero();
+        previous_[static_cast<size_t>(g.first + k)] = Previous{c.geom_a, c.geom_b, c.point, 0.0, Vector3::Zero(), 0.0};
+      }
+      continue;
+    }
     // What the bodies took: the solve's impulses and any impacts passed along before it.
     const ContactRowVector taken = g.impact.isZero(0.0) ? g.lambda : ContactRowVector(g.lambda + g.impact);
     const Vector3 friction = taken[P] * g.t1 + taken[P + 1] * g.t2;

@@ -57,7 +57,12 @@ void crbaUpper(const Model& model, Data& data, bool compose_world_poses) {
       }
       case JointType::Prismatic: S.col(0) << oMi.R * model.axis[i], Vector3::Zero(); break;
       case JointType::Floating:
-        for (int k = 0; k < 6; ++k) S.col(k) = oMi.act(subspaceColumn(model, i, k)).toVector();
+        // The unit twists of its frame, in world axes: along R's columns, and about them through p
+        // (oMi.act of each, written out: a free body's six columns were a tenth of a pile's step).
+        for (int k = 0; k < 3; ++k) {
+          S.col(k) << oMi.R.col(k), Vector3::Zero();
+          S.col(3 + k) << oMi.p.cross(oMi.R.col(k)), oMi.R.col(k);
+        }
         break;
     }
   }
