@@ -141,8 +141,6 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
     g.complete = false;
     g.built = false;
-    g.impact.setZero();
-    std::fill(g.bounce, g.bounce + kMaxPairPoints, false);
     bool apart = true;
     for (int k = i; k < end && apart; ++k)
       apart = contacts[k].distance > 0.0 && contacts[k].distance + h * twistSpeed(contacts[k], twist_) > 0.0;
@@ -238,6 +236,8 @@ void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX
     sign_of_[static_cast<size_t>(entry + e)] = sign[e];
   }
   // Velocities and targets.
+  g.impact.setZero();
+  std::fill(g.bounce, g.bounce + kMaxPairPoints, false);
   g.b.setZero();
   g.target.setZero();
   g.sigma.setZero();

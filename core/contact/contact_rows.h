@@ -26,27 +26,32 @@ using ContactRowVector = Eigen::Matrix<double, kMaxContactRows, 1>;
 
 // One pair's contacts: their rows (normals first, then friction) and everything about them.
 struct ContactGroup {
+  // What every pair has each step, waiting outside the solve or not (together: a crowded scene's many
+  // waiting pairs touch a few cache lines each).
   int first = 0, points = 0;    // its contacts in the set
+  int rows = 0;                 // points + 2 (one point: n, t1, t2; + 3 where it resists) or points + 3
   bool patch = false;           // several points: friction at the centroid (rows: normals, t1, t2, torsion)
   // One point with rolling or torsional resistance (Material): three more rows, its relative angular
   // velocity about n (spin), t1 and t2 (rolling): |tau_spin| <= spin_mu N, |tau_roll| <= roll_mu N.
   bool resists = false;
-  double spin_mu = 0.0, roll_mu = 0.0;  // m
-  int rows = 0;                 // points + 2 (one point: n, t1, t2; + 3 where it resists) or points + 3
-  Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
-  double mu = 0.0, radius = 0.0;  // friction coefficient; a patch's torsion radius
-  int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
-  int first_value = 0;               // its rows' J and X: rows x entries, row-major
-  int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
   bool framed = false;               // centroid, n, t1, t2, radius and carries set (frame())
   bool built = false;                // its normal rows formed (build() did, or complete() will)
   bool complete = false;             // its X, W and friction block formed (complete()): in the solve
+  int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
+  double mu = 0.0;                   // friction coefficient
+  double spin_mu = 0.0, roll_mu = 0.0;  // m
+  ContactRowVector lambda;           // impulses
+  // Its frame (frame()) and rows (buildRows(), complete()).
+  Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
+  double radius = 0.0;               // a patch's torsion radius
+  int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
+  int first_value = 0;               // its rows' J and X: rows x entries, row-major
   ContactBlock W;                    // its own Delassus block
   Eigen::Matrix3d friction_inverse;  // of the friction rows' block (stick)
   double friction_step = 0.0;  // 1 / (a bound on the largest eigenvalue of the scaled friction block)
   Eigen::Matrix2d roll_inverse;  // of the rolling rows' block (where it resists)
   double roll_step = 0.0;        // 1 / its largest eigenvalue
-  ContactRowVector b, target, lambda;  // J v_free; normal rows' u*; impulses
+  ContactRowVector b, target;          // J v_free; normal rows' u*
   ContactRowVector sigma;              // pseudo-impulses (normal rows)
   ContactRowVector impact;             // impulses of the impacts passed along first (contact_impacts.h)
   bool bounce[kMaxPairPoints] = {};

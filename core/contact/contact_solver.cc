@@ -71,16 +71,14 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
 // what the next step starts from.
 void ContactSolver::report(ContactSet& contacts) {
   const int ng = rows_.size();
-  previous_n_ = contacts.n;
+  previous_n_ = 0;  // the points of the pairs in the solve, in the contacts' order (by pair)
   for (int gi = 0; gi < ng; ++gi) {
     const ContactGroup& g = rows_.group(gi);
     const int P = g.points;
-    if (!g.framed) {  // waited outside the solve, no impulse: nor is there one to report
+    if (!g.complete) {  // waited outside the solve, no impulse: none to report, none to start from
       for (int k = 0; k < P; ++k) {
-        Contact& c = contacts[g.first + k];
-        c.impulse.setZero();
-        c.moment.setZero();
-        previous_[static_cast<size_t>(g.first + k)] = Previous{c.geom_a, c.geom_b, c.point, 0.0, Vector3::Zero(), 0.0};
+        contacts[g.first + k].impulse.setZero();
+        contacts[g.first + k].moment.setZero();
       }
       continue;
     }
@@ -112,7 +110,7 @@ void ContactSolver::report(ContactSet& contacts) {
           c.impulse += (torsion / spread) * g.n.cross(r - r.dot(g.n) * g.n);
         }
       }
-      previous_[static_cast<size_t>(g.first + k)] = Previous{c.geom_a, c.geom_b, c.point, g.lambda[k], friction, torsion};
+      previous_[static_cast<size_t>(previous_n_++)] = Previous{c.geom_a, c.geom_b, c.point, g.lambda[k], friction, torsion};
     }
   }
 }
@@ -219,7 +217,7 @@ bool ContactSolver::keepEnergy() {
   auto solveWith = [&](double factor) {
     for (int gi = 0; gi < rows_.size(); ++gi) {
       ContactGroup& g = rows_.group(gi);
-      for (int k = 0; k < g.points; ++k)
+      for (int k = 0; g.built && k < g.points; ++k)
         if (g.bounce[k]) g.target[k] = factor * g.bounce_target[k];
     }
     return solveImpulses();
@@ -288,7 +286,7 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   restitution_scale_ = 1.0;
   bool bounces = false;
   for (int g = 0; g < ng && !bounces; ++g)
-    for (int k = 0; k < rows_.group(g).points; ++k) bounces = bounces || rows_.group(g).bounce[k];
+    for (int k = 0; rows_.group(g).built && k < rows_.group(g).points; ++k) bounces = bounces || rows_.group(g).bounce[k];
   // Impacts that can pass along a chain are passed along first, pair by pair (contact_impacts.h); the
   // solve then starts from the velocity they leave, its contacts plastic.
   stats_.impact_rounds = 0;
