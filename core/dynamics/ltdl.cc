@@ -10,10 +10,11 @@ namespace igms {
 // Raw columns throughout: the updates are a few entries long, too short for a
 // vector expression's set-up; each run of ancestors is a plain loop.
 
-int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag) {
-  const int n = H.size();
-  for (int k = 0; k < n; ++k) diag[k] = H.diagonal(k);
-  for (int k = n - 1; k >= 0; --k) {
+int ltdlFactorBlock(const std::vector<int>& lambda, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag,
+                    int b) {
+  const int begin = H.blockBegin(b), end = H.blockEnd(b);
+  for (int k = begin; k < end; ++k) diag[k] = H.diagonal(k);
+  for (int k = end - 1; k >= begin; --k) {
     double* const hk = H.column(k);
     const double d = hk[k];
     // A pivot that cancels to round-off of its own diagonal entry is zero.
@@ -27,6 +28,18 @@ int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start
       });
       hk[i] = a;
     }
+  }
+  return -1;
+}
+
+// Block by block from the last dof down (no dof's ancestors leave its block): the order of every
+// update is that of one pass over all dofs.
+int ltdlFactor(const std::vector<int>& lambda, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag,
+               const std::vector<char>* factored) {
+  for (int b = H.blocks() - 1; b >= 0; --b) {
+    if (factored && (*factored)[static_cast<size_t>(b)]) continue;
+    const int k = ltdlFactorBlock(lambda, run_start, H, diag, b);
+    if (k >= 0) return k;
   }
   return -1;
 }

@@ -16,7 +16,12 @@ namespace igms {
 // (below kSingularPivot of its diagonal) or is not finite: H is singular there.
 // run_start[j]: first dof of the run of consecutive ancestors ending at j
 // (Model::dof_run_start). diag: scratch of size nv.
-int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag);
+// factored (per block of H, or null): blocks that hold their factors already, left as they are.
+int ltdlFactor(const std::vector<int>& dof_parent, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag,
+               const std::vector<char>* factored = nullptr);
+// The same for block b of H alone (its dofs reach no other block's).
+int ltdlFactorBlock(const std::vector<int>& dof_parent, const std::vector<int>& run_start, TreeMatrix& H, VectorX& diag,
+                    int b);
 
 // A pivot below this fraction of its original diagonal entry counts as zero.
 constexpr double kSingularPivot = 1e-13;

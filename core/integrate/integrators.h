@@ -10,11 +10,14 @@
 //   Evaluation makeEvaluation() const;      // sized once (allocates)
 //   void evaluate(const VectorX& q, const VectorX& v, Evaluation& out);
 // and, for the linearly-implicit scheme, right after evaluate(q, v, at):
-//   void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs);
+//   void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs,
+//                     std::vector<char>& factored);
 //       A = H + h D + h^2 K, rhs = h (F - h K v), where F = H qdd and
 //       K = -dF/dq, D = -dF/dv of the stiff terms (couplings, joint damping),
 //       symmetric, within H's sparsity; only the upper triangle is read (the
-//       factorisation's), so an evaluator may leave the lower one stale.
+//       factorisation's), so an evaluator may leave the lower one stale. It may
+//       write a block of A as its factors already (ltdl.h: a free body's block,
+//       the same every step) and set its entry of `factored` (zero on entry).
 // Every scheme leaves the evaluation at the step's start state in
 // scratch.start: that is what a step reports (acceleration, force), never
 // whatever a later stage left behind.
@@ -33,7 +36,9 @@
 // contact solve, and move a free body the solve left alone by its exact, conservative step.
 #pragma once
 
+#include <algorithm>
 #include <type_traits>
+#include <vector>
 
 #include "core/dynamics/ltdl.h"
 #include "core/integrate/free_body_motion.h"
@@ -48,13 +53,14 @@ struct IntegratorScratch {
   IntegratorScratch(const Model& m, const Eval& f)
       : start(f.makeEvaluation()), stage(f.makeEvaluation()), k2(m.nv), k3(m.nv), v2(m.nv), v3(m.nv),
         v4(m.nv), u(m.nv), r2(m.nv), r3(m.nv), r4(m.nv), qt(m.nq), A(m), rhs(m.nv), diag(m.nv),
-        v_free(m.nv) {}
+        v_free(m.nv), factored(static_cast<size_t>(A.blocks()), 0) {}
   Evaluation start;  // f at the step's start state
   Evaluation stage;  // RK4's later stages
   VectorX k2, k3, v2, v3, v4, u, r2, r3, r4, qt;
   TreeMatrix A;
   VectorX rhs, diag;
   VectorX v_free;  // the contact solve's input
+  std::vector<char> factored;  // per block of A: written as its factors by linearSystem
 };
 
 // Does the evaluator take a contact step (constrain)?
@@ -155,8 +161,9 @@ void stepRk4(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch&
 template <typename Eval, typename Scratch>
 bool stepLinearlyImplicit(const Model& m, Eval& f, VectorX& q, VectorX& v, double h, Scratch& s) {
   f.evaluate(q, v, s.start);
-  f.linearSystem(s.start, v, h, s.A, s.rhs);
-  if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag) >= 0) return false;
+  std::fill(s.factored.begin(), s.factored.end(), 0);
+  f.linearSystem(s.start, v, h, s.A, s.rhs, s.factored);
+  if (ltdlFactor(m.dof_parent, m.dof_run_start, s.A, s.diag, &s.factored) >= 0) return false;
   ltdlSolve(m.dof_parent, m.dof_run_start, s.A, s.rhs);
   s.v2 = v;
   v += s.rhs;

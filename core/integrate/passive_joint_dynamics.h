@@ -35,7 +35,8 @@ class PassiveJointDynamics {
     out.qdd = d_.qdd;
   }
 
-  void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs) const {
+  void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs,
+                    std::vector<char>& /*factored: none here*/) const {
     A.assign(d_.H);  // forwardDynamics leaves H's upper triangle (the lower one is not read)
     rhs = h * at.F;
     for (int i = 0; i < m_.nv; ++i) {

@@ -46,6 +46,13 @@ class TreeMatrix {
 
   // Every stored entry of `from` (a matrix of the same model): no allocation.
   void assign(const TreeMatrix& from) { values_ = from.values_; }
+  // Block b's stored entries, column-major (n x n, n its dofs).
+  double* blockValues(int b) { return column(blockBegin(b)) + blockBegin(b); }
+  const double* blockValues(int b) const { return column(blockBegin(b)) + blockBegin(b); }
+  size_t blockEntries(int b) const {
+    const size_t n = static_cast<size_t>(blockEnd(b) - blockBegin(b));
+    return n * n;
+  }
   // The square sub-block [begin, begin + n) of one block, as an Eigen view (both triangles as stored).
   Eigen::Map<const MatrixX, 0, Eigen::OuterStride<>> block(int begin, int n) const;
 

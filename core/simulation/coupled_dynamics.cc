@@ -1,11 +1,13 @@
 #include "core/simulation/coupled_dynamics.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "core/dynamics/crba.h"
 #include "core/dynamics/forward_dynamics.h"
 #include "core/dynamics/joint_damping.h"
+#include "core/dynamics/ltdl.h"
 #include "core/dynamics/rnea.h"
 #include "core/geometry/point_query.h"
 #include "core/geometry/tip_contact.h"
@@ -25,6 +27,17 @@ CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s, const VectorX& 
   for (Matrix6X& J : coupling_J_) J.setZero(6, m.nv);
   for (int i = 0; i < m.nb; ++i)
     if (m.joint_type[i] == JointType::Floating) floating_.push_back(DofRange{m.v_index[i], m.v_index[i] + 6, 0.0});
+  // The free bodies' blocks of H (at any pose: crbaUpper writes a free body's from its inertia alone)
+  // and their factors.
+  Data at(m);
+  free_inertia_ = crba(m, at, q_reference);
+  free_factors_ = free_inertia_;
+  for (int i = 0; i < m.nb; ++i) {
+    if (m.joint_type[i] != JointType::Floating || !m.children[i].empty()) continue;
+    const int b = free_inertia_.blockOf(m.v_index[i]);
+    if (free_inertia_.blockEnd(b) - free_inertia_.blockBegin(b) != 6) continue;
+    if (ltdlFactorBlock(m.dof_parent, m.dof_run_start, free_factors_, at.diag, b) < 0) free_blocks_.push_back(b);
+  }
   if (contacts && !contacts->empty()) {
     contacts_ = contacts;
     detection_ = std::make_unique<ContactDetection>(*contacts);
@@ -224,7 +237,7 @@ void CoupledDynamics::subtractHoldDamping(const CoupledInputs& in, const VectorX
 }
 
 void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h,
-                                   TreeMatrix& A, VectorX& rhs) {
+                                   TreeMatrix& A, VectorX& rhs, std::vector<char>& factored) {
   // Every stored entry of H (ltdlFactor reads the upper triangle's ancestor entries; the others are
   // zero or, below the diagonal, never read).
   A.assign(data_.H);
@@ -281,6 +294,20 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
       rhs[c] -= J.col(c).dot(KJv);
       for (int r = c; r >= 0; r = model_.dof_parent[r]) A(r, c) += J.col(r).dot(KJ_.col(c));
     }
+  }
+  // A free body's block that is its inertia alone (upper triangles equal bit for bit: what ltdlFactor
+  // reads) takes the factors formed once.
+  constexpr int kFree = 6;
+  for (const int b : free_blocks_) {
+    double* const a = A.blockValues(b);
+    const double* const inertia = free_inertia_.blockValues(b);
+    bool alone = true;
+    for (int c = 0; c < kFree && alone; ++c)
+      alone = std::memcmp(a + c * kFree, inertia + c * kFree, sizeof(double) * static_cast<size_t>(c + 1)) == 0;
+    if (!alone) continue;
+    const double* const factors = free_factors_.blockValues(b);
+    for (int c = 0; c < kFree; ++c) std::copy(factors + c * kFree, factors + c * kFree + c + 1, a + c * kFree);
+    factored[static_cast<size_t>(b)] = 1;
   }
 }
 

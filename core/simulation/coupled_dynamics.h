@@ -123,9 +123,11 @@ class CoupledDynamics {
   // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau.
   void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                 bool step_start = true);
-  // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation.
+  // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation; a free body's block
+  // that is its inertia alone (nothing added: no hand on it, no damping) written as its factors, kept
+  // from the first step, and marked in `factored` (per block of A).
   void linearSystem(const CoupledInputs& in, const CoupledEvaluation& at, const VectorX& v, double h, TreeMatrix& A,
-                    VectorX& rhs);
+                    VectorX& rhs, std::vector<char>& factored);
   // The couplings' forces a linearly-implicit step applied, from v (its start) to v_end (its end, the
   // contact step's included): the stiff terms are taken at the end of the step, H dv = h (F - h K v+
   // - D dv), so each hand's force was f - K h J v+ - B J (v+ - v) at its point (and its moment
@@ -157,8 +159,9 @@ class CoupledDynamics {
       d_.evaluate(in_, q, v, out, !started_);
       started_ = true;
     }
-    void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs) {
-      d_.linearSystem(in_, at, v, h, A, rhs);
+    void linearSystem(const Evaluation& at, const VectorX& v, double h, TreeMatrix& A, VectorX& rhs,
+                      std::vector<char>& factored) {
+      d_.linearSystem(in_, at, v, h, A, rhs, factored);
     }
     bool hasContacts() const { return d_.hasContacts(); }
     void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position) {
@@ -194,6 +197,11 @@ class CoupledDynamics {
   Matrix6X KJ_;
   Matrix6X J_;
   std::array<Matrix6X, kMaxHands> coupling_J_;  // each coupling's point Jacobian at the step's start
+  // The free bodies' blocks of H (their inertia in their own frame: the same at every pose) and their
+  // factors, formed once: a block of A equal to its inertia takes them (ltdlFactor would give the
+  // same bits again) where a pile's thousand blocks were factored every step.
+  std::vector<int> free_blocks_;   // blocks of H that are one free body
+  TreeMatrix free_inertia_, free_factors_;
 };
 
 }  // namespace igms

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include "core/contact/contact_model.h"
+#include "core/dynamics/crba.h"
+#include "core/dynamics/ltdl.h"
 #include "core/model/environment_model.h"
+#include "core/simulation/coupled_dynamics.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
@@ -197,6 +200,38 @@ TEST(Environment, TheSameSceneGivesTheSameBits) {
     ASSERT_TRUE(b.step(nullptr));
   }
   for (int k = 0; k < a.q().size(); ++k) ASSERT_EQ(a.q()[k], b.q()[k]);
+}
+
+TEST(Environment, AFreeBodysFactorsAreFormedOnceAndAreThoseOfItsInertia) {
+  // The implicit step's matrix: a free body's block that is its inertia alone comes back as its
+  // factors (formed once), bit for bit what factoring it gives; a block with something added (the
+  // hold's h c H) is left to be factored.
+  Simulation sim(shipped("box_pyramid.yaml"));
+  const Model& m = sim.model();
+  CoupledDynamics dynamics(m, sim.scene(), sim.q());
+  VectorX tau = VectorX::Zero(m.nv), v = VectorX::Constant(m.nv, 0.3), rhs(m.nv);
+  CoupledInputs in{tau, nullptr, 0, 0.0};
+  CoupledEvaluation at = dynamics.makeEvaluation();
+  TreeMatrix A(m);
+  std::vector<char> factored(static_cast<size_t>(A.blocks()), 0);
+  Data data(m);
+  TreeMatrix want = crba(m, data, sim.q());
+  ASSERT_LT(ltdlFactor(m.dof_parent, m.dof_run_start, want, data.diag), 0);
+  dynamics.evaluate(in, sim.q(), v, at);
+  dynamics.linearSystem(in, at, v, 1e-3, A, rhs, factored);
+  int blocks = 0;
+  for (int b = 0; b < A.blocks(); ++b) {
+    ASSERT_TRUE(factored[static_cast<size_t>(b)]) << "block " << b << " (every one a free body)";
+    ++blocks;
+    for (int c = A.blockBegin(b); c < A.blockEnd(b); ++c)
+      for (int r = A.blockBegin(b); r <= c; ++r) ASSERT_EQ(A(r, c), want(r, c)) << r << ", " << c;
+  }
+  EXPECT_EQ(blocks, 10);
+  in.hold_rate = 5.0;  // A = H + h c H
+  std::fill(factored.begin(), factored.end(), 0);
+  dynamics.linearSystem(in, at, v, 1e-3, A, rhs, factored);
+  for (int b = 0; b < A.blocks(); ++b) EXPECT_FALSE(factored[static_cast<size_t>(b)]) << "block " << b;
+  EXPECT_DOUBLE_EQ(A(0, 0), (1.0 + 5e-3) * crba(m, data, sim.q())(0, 0));
 }
 
 }  // namespace
