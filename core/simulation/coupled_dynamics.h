@@ -146,6 +146,8 @@ class CoupledDynamics {
   // The contacts of the last step's start (their impulses from its solve).
   const ContactSet& contacts() const { return contact_set_; }
   const ContactSolveStats& contactStats() const;
+  // The contact detection (null: no contact step), for its counters.
+  const ContactDetection* contactDetection() const { return detection_.get(); }
   void resetContacts();
 
   // The evaluator the integrators take (integrators.h): these dynamics with

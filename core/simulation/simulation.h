@@ -163,6 +163,8 @@ class Simulation {
   // The contacts at the last step's start, with the impulses its solve gave them (empty without contact).
   const ContactSet& contacts() const { return dynamics_->contacts(); }
   const ContactSolveStats& contactStats() const { return dynamics_->contactStats(); }
+  // Its detection (null: no contact): how often its list of near pairs was rebuilt, candidates dropped.
+  const ContactDetection* contactDetection() const { return dynamics_->contactDetection(); }
   bool hasContacts() const { return dynamics_->hasContacts(); }
   const ContactModel* contactModel() const { return contact_model_.get(); }
   // Interaction gains (push k_p, pull k, pull b; the 6-D pull's k_rot, b_rot), e.g. from a SET_GAINS command.

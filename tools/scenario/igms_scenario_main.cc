@@ -38,7 +38,9 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                         {"warm_dropped", r.solve.warm_dropped},
                         {"restitution_scaled", r.solve.restitution_scaled},
                         {"energy_capped", r.solve.energy_capped},
-                        {"position_unconverged", r.solve.position_unconverged}}},
+                        {"position_unconverged", r.solve.position_unconverged},
+                        {"near_rebuilds", r.solve.near_rebuilds},
+                        {"candidates_dropped", r.solve.candidates_dropped}}},
                       {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};
   // Each free body's final pose: [x, y, z, qw, qx, qy, qz].

@@ -110,6 +110,10 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     out.solve.restitution_scaled = solve.restitution_scaled;
     out.solve.energy_capped = solve.energy_capped;
     out.solve.position_unconverged = solve.position_unconverged;
+    if (const ContactDetection* d = sim.contactDetection()) {
+      out.solve.near_rebuilds = d->nearRebuilds();
+      out.solve.candidates_dropped = d->candidatePairsDropped();
+    }
     out.max_contacts = std::max(out.max_contacts, s.contacts);
     out.max_penetration = std::max(out.max_penetration, s.max_penetration);
     if (out.reached_wall_time < 0 && robot && robot->trajectory.kind == TrajectorySpec::Kind::CartesianLine &&

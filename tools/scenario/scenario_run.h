@@ -38,6 +38,8 @@ struct ScenarioSolveStats {
   int64_t restitution_scaled = 0;   // impacts whose restitution was scaled down to add no energy
   int64_t energy_capped = 0;        // solves whose impulses were scaled down to add no energy
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit
+  int64_t near_rebuilds = 0;        // the detection's broad phases (its list of near pairs rebuilt)
+  int64_t candidates_dropped = 0;   // candidate pairs beyond the detection's buffers (contacts missed)
 };
 
 struct ScenarioResult {
