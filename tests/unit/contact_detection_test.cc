@@ -74,19 +74,37 @@ std::vector<Found> everyPair(const ContactModel& cm, const Data& data) {
   return out;
 }
 
+// A scene, and a detection of its own with its data and contact set.
+struct Detecting {
+  explicit Detecting(const std::string& yaml)
+      : sim(parseScene(yaml, "test.yaml", test::sourceDir() + "/scenes")),
+        model(sim.model()),
+        cm(*sim.contactModel()),
+        data(model),
+        detection(cm),
+        set(cm.capacity()) {}
+  // The contacts at q.
+  void detectAt(const VectorX& q) {
+    forwardKinematics(model, data, q);
+    detection.detect(data, set);
+  }
+  Simulation sim;
+  const Model& model;
+  const ContactModel& cm;
+  Data data;
+  ContactDetection detection;
+  ContactSet set;
+};
+
 // Steps the crowd through creeping, turning and jumping, comparing the detection with every pair.
 // \return the steps compared.
 int compareThroughMotion(int bodies, unsigned seed) {
-  Simulation sim(parseScene(crowd(bodies, seed), "crowd.yaml", test::sourceDir() + "/scenes"));
-  const Model& model = sim.model();
-  const ContactModel& cm = *sim.contactModel();
-  Data data(model);
-  ContactDetection detection(cm);
-  ContactSet set(cm.capacity());
+  Detecting d(crowd(bodies, seed));
+  const Model& model = d.model;
   std::mt19937 rng(seed + 1);
   std::normal_distribution<double> creep(0.0, 0.3), jump(0.0, 300.0);
   std::uniform_int_distribution<int> pick(0, model.nv / 6 - 1);
-  VectorX q = sim.q(), v(model.nv);
+  VectorX q = d.sim.q(), v(model.nv);
   const double h = 1e-3;
   int compared = 0;
   size_t allocations = 0;  // in the detection, its list's rebuilds included
@@ -96,9 +114,9 @@ int compareThroughMotion(int bodies, unsigned seed) {
     if (step % 40 == 39) v.segment<3>(6 * pick(rng)) = Vector3(jump(rng), jump(rng), jump(rng));  // a jump
     if (step % 100 == 70) v.setZero();  // still: the list must hold while nothing moves
     integrateConfiguration(model, q, v, h, q);
-    forwardKinematics(model, data, q);
-    allocations += test::allocationsDuring([&] { detection.detect(data, set); });
-    const std::vector<Found> want = everyPair(cm, data);
+    allocations += test::allocationsDuring([&] { d.detectAt(q); });
+    const std::vector<Found> want = everyPair(d.cm, d.data);
+    const ContactSet& set = d.set;
     EXPECT_EQ(set.n, static_cast<int>(want.size())) << "step " << step;
     if (set.n != static_cast<int>(want.size())) return compared;
     for (int k = 0; k < set.n; ++k) {
@@ -115,14 +133,12 @@ int compareThroughMotion(int bodies, unsigned seed) {
   // A body leaves the finite (a diverged step): no crash, and once it is back the contacts agree.
   VectorX bad = q;
   bad[0] = std::numeric_limits<double>::quiet_NaN();
-  forwardKinematics(model, data, bad);
-  detection.detect(data, set);
-  forwardKinematics(model, data, q);
-  detection.detect(data, set);
-  EXPECT_EQ(set.n, static_cast<int>(everyPair(cm, data).size()));
+  d.detectAt(bad);
+  d.detectAt(q);
+  EXPECT_EQ(d.set.n, static_cast<int>(everyPair(d.cm, d.data).size()));
   EXPECT_EQ(allocations, 0u);
-  EXPECT_GT(detection.nearRebuilds(), 4) << "the bodies moved past the skin: the list was rebuilt";
-  EXPECT_LT(detection.nearRebuilds(), compared / 3) << "the list served between rebuilds";
+  EXPECT_GT(d.detection.nearRebuilds(), 4) << "the bodies moved past the skin: the list was rebuilt";
+  EXPECT_LT(d.detection.nearRebuilds(), compared / 3) << "the list served between rebuilds";
   return compared;
 }
 
@@ -139,18 +155,15 @@ TEST(ContactDetection, TheNearListFindsWhatEveryPairFindsAmongAFew) {
 TEST(ContactDetection, TwoBodiesClosingFromBothSidesAreFound) {
   // Two balls beyond margin + skin close on each other, each by less than the skin: the list must
   // count both moves (a list that checked each body's move alone would miss them).
-  Simulation sim(parseScene("bodies:\n"
-                            "  - {name: a, shape: sphere, radius: 0.05, mass: 1, xyz: [0, 0, 1]}\n"
-                            "  - {name: b, shape: sphere, radius: 0.05, mass: 1, xyz: [0.2, 0, 1]}\n"
-                            "contact: {margin: 0.005}\n",
-                            "two.yaml", test::sourceDir() + "/scenes"));
-  const Model& model = sim.model();
-  Data data(model);
-  ContactDetection detection(*sim.contactModel());
-  ContactSet set(sim.contactModel()->capacity());
-  const double margin = 0.005, skin = detection.skin(), start = margin + skin + 1e-3;
+  Detecting d(
+      "bodies:\n"
+      "  - {name: a, shape: sphere, radius: 0.05, mass: 1, xyz: [0, 0, 1]}\n"
+      "  - {name: b, shape: sphere, radius: 0.05, mass: 1, xyz: [0.2, 0, 1]}\n"
+      "contact: {margin: 0.005}\n");
+  const Model& model = d.model;
+  const double margin = 0.005, skin = d.detection.skin(), start = margin + skin + 1e-3;
   ASSERT_GE(skin, margin);
-  const VectorX q0 = sim.q();  // 0.1 m apart
+  const VectorX q0 = d.sim.q();  // 0.1 m apart
   VectorX q = q0;
   auto place = [&](double gap) {  // each ball moved half the way along x
     const double moved = 0.5 * (0.1 - gap);
@@ -160,40 +173,34 @@ TEST(ContactDetection, TwoBodiesClosingFromBothSidesAreFound) {
   int rebuilds = -1;
   for (double gap = start; gap > 0.5 * margin; gap -= 2e-4) {
     place(gap);
-    forwardKinematics(model, data, q);
-    detection.detect(data, set);
-    if (rebuilds < 0) rebuilds = static_cast<int>(detection.nearRebuilds());
-    ASSERT_EQ(set.n, gap < margin ? 1 : 0) << "gap " << gap;
-    if (set.n == 1) EXPECT_NEAR(set[0].distance, gap, 1e-12);
+    d.detectAt(q);
+    if (rebuilds < 0) rebuilds = static_cast<int>(d.detection.nearRebuilds());
+    ASSERT_EQ(d.set.n, gap < margin ? 1 : 0) << "gap " << gap;
+    if (d.set.n == 1) EXPECT_NEAR(d.set[0].distance, gap, 1e-12);
   }
-  EXPECT_EQ(detection.nearRebuilds(), rebuilds + 1) << "one rebuild, once they had moved the skin between them";
+  EXPECT_EQ(d.detection.nearRebuilds(), rebuilds + 1) << "one rebuild, once they had moved the skin between them";
 }
 
 TEST(ContactDetection, AStickTurningInPlaceIsFound) {
   // A 0.5 m stick turns about its centre, which stays put, into a ball beside it: its box grows as it
   // turns, its bounding sphere does not (a list built from the boxes it had would miss the ball).
-  Simulation sim(parseScene("bodies:\n"
-                            "  - {name: stick, shape: box, size: [0.5, 0.02, 0.02], mass: 1, xyz: [0, 0, 1]}\n"
-                            "  - {name: ball, shape: sphere, radius: 0.05, mass: 1, xyz: [0.2, 0.12, 1]}\n"
-                            "contact: {margin: 0.005}\n",
-                            "stick.yaml", test::sourceDir() + "/scenes"));
-  const Model& model = sim.model();
-  Data data(model);
-  ContactDetection detection(*sim.contactModel());
-  ContactSet set(sim.contactModel()->capacity());
-  VectorX q = sim.q(), v = VectorX::Zero(model.nv);
+  Detecting d(
+      "bodies:\n"
+      "  - {name: stick, shape: box, size: [0.5, 0.02, 0.02], mass: 1, xyz: [0, 0, 1]}\n"
+      "  - {name: ball, shape: sphere, radius: 0.05, mass: 1, xyz: [0.2, 0.12, 1]}\n"
+      "contact: {margin: 0.005}\n");
+  const Model& model = d.model;
+  VectorX q = d.sim.q(), v = VectorX::Zero(model.nv);
   v[5] = 2.0;  // the stick's spin about z (its body axes: the last three of its six)
   int touching = 0;
   for (int step = 0; step < 400; ++step) {
     integrateConfiguration(model, q, v, 1e-3, q);
-    forwardKinematics(model, data, q);
-    detection.detect(data, set);
-    const std::vector<Found> want = everyPair(*sim.contactModel(), data);
-    ASSERT_EQ(set.n, static_cast<int>(want.size())) << "step " << step;
-    touching += set.n > 0;
+    d.detectAt(q);
+    ASSERT_EQ(d.set.n, static_cast<int>(everyPair(d.cm, d.data).size())) << "step " << step;
+    touching += d.set.n > 0;
   }
   EXPECT_GT(touching, 0) << "the stick reached the ball";
-  EXPECT_EQ(detection.nearRebuilds(), 1) << "its centre never moved";
+  EXPECT_EQ(d.detection.nearRebuilds(), 1) << "its centre never moved";
 }
 
 }  // namespace
