@@ -203,5 +203,32 @@ TEST(ContactDetection, AStickTurningInPlaceIsFound) {
   EXPECT_EQ(d.detection.nearRebuilds(), 1) << "its centre never moved";
 }
 
+TEST(ContactDetection, ACrowdTooDenseForTheListFallsBackAndCountsWhatItDrops) {
+  // 60 balls heaped on one spot: 1770 overlapping pairs, more than the buffers hold (16 a geom). The
+  // list cannot be built: each step takes the broad phase straight and counts the pairs it drops.
+  // Spread out, the list serves again and the contacts are every pair's.
+  std::ostringstream yaml;
+  yaml << "bodies:\n";
+  for (int k = 0; k < 60; ++k)
+    yaml << "  - {name: b" << k << ", shape: sphere, radius: 0.05, mass: 1, xyz: [" << 1e-4 * k << ", 0, 1]}\n";
+  Detecting d(yaml.str());
+  VectorX q = d.sim.q();
+  int64_t rebuilds = 0;
+  for (int step = 0; step < 5; ++step) {
+    const size_t allocations = test::allocationsDuring([&] { d.detectAt(q); });
+    EXPECT_EQ(allocations, 0u);
+    EXPECT_GT(d.set.n, 0);
+    EXPECT_EQ(d.detection.nearRebuilds(), ++rebuilds) << "no list to keep: the broad phase every step";
+  }
+  EXPECT_GT(d.detection.candidatePairsDropped(), 0);
+  for (int k = 0; k < 60; ++k) q[d.model.q_index[k] + 1] = 0.0999 * k;  // in a row, neighbours 0.1 mm apart
+  for (int step = 0; step < 3; ++step) {
+    d.detectAt(q);
+    EXPECT_EQ(d.set.n, static_cast<int>(everyPair(d.cm, d.data).size()));
+    EXPECT_EQ(d.set.n, 59);
+  }
+  EXPECT_EQ(d.detection.nearRebuilds(), rebuilds + 1) << "spread out, one list serves";
+}
+
 }  // namespace
 }  // namespace igms
