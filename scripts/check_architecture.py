@@ -17,6 +17,11 @@ line; those may include only what starts with one of the given prefixes or
 is a C/C++ standard header. The most specific (longest) matching folder
 decides. Files under no listed folder are not checked.
 
+A "calls" line names a kind of call (one of CALLS below) and the only
+layers whose files may make it:
+
+    calls lcm-subscribe: bus
+
     check_architecture.py [--root DIR] [--rules FILE]
 Prints each broken rule as file:line: and exits 1 when any rule is broken.
 """
@@ -30,6 +35,12 @@ INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 GENERATED = (('channels.h', 'lcmtypes/channels.h'), ('igms/', 'lcmtypes/igms/'),
              ('igms_build_info.h', 'cmake/igms_build_info.h'))
 SOURCE_ENDINGS = ('.h', '.hpp', '.cc', '.cpp')
+# Calls a "calls" line can keep to some layers, by what they look like in the source.
+CALLS = {
+    # LCM's own subscribe (lc.subscribe(...), lcm_->subscribeFunction<T>(...)): a receive path that
+    # could skip the message check or decode unguarded; bus::subscribe is the one way in.
+    'lcm-subscribe': re.compile(r'(\.|->)\s*subscribe(Function)?\s*(<[^<>()]*>)?\s*\('),
+}
 
 
 def read_rules(path):
@@ -37,7 +48,7 @@ def read_rules(path):
     m = re.search(r'^## Rules\s*$.*?^```[a-z]*\n(.*?)^```', text, re.S | re.M)
     if not m:
         raise SystemExit(f'{path}: no fenced block after "## Rules"')
-    allowed, external = {}, {}
+    allowed, external, calls = {}, {}, {}
     for n, line in enumerate(m.group(1).splitlines(), 1):
         line = line.split('#', 1)[0].strip()
         if not line:
@@ -46,13 +57,17 @@ def read_rules(path):
         if not _:
             raise SystemExit(f'{path}: rules line {n}: expected "layer: allowed ..."')
         words = head.split()
-        if len(words) == 2 and words[0] == 'external':
+        if len(words) == 2 and words[0] == 'calls':
+            if words[1] not in CALLS:
+                raise SystemExit(f'{path}: rules line {n}: unknown call "{words[1]}" (known: {" ".join(CALLS)})')
+            calls[words[1]] = [w.rstrip('/') for w in rest.split()]
+        elif len(words) == 2 and words[0] == 'external':
             external[words[1].rstrip('/')] = rest.split()
         elif len(words) == 1:
             allowed[words[0].rstrip('/')] = [w.rstrip('/') for w in rest.split()]
         else:
             raise SystemExit(f'{path}: rules line {n}: cannot read "{line}"')
-    return allowed, external
+    return allowed, external, calls
 
 
 def layer_of(rel, layers):
@@ -71,7 +86,7 @@ def is_standard(header):
 
 
 def check(root, rules_path):
-    allowed, external = read_rules(rules_path)
+    allowed, external, calls = read_rules(rules_path)
     layers = set(allowed) | set(external)
     problems = []
     for dirpath, dirnames, filenames in os.walk(root):
@@ -87,6 +102,11 @@ def check(root, rules_path):
             ok_dirs = [layer] + allowed.get(layer, [])
             with open(path, encoding='utf-8', errors='replace') as f:
                 for n, line in enumerate(f, 1):
+                    code = line.split('//', 1)[0]
+                    for call, layers_allowed in calls.items():
+                        if CALLS[call].search(code) and layer_of(rel, layers_allowed) is None:
+                            problems.append(f'{rel}:{n}: {layer} may not make the call {call} '
+                                            f'(only: {" ".join(layers_allowed)})')
                     m = INCLUDE.match(line)
                     if not m:
                         continue

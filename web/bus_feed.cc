@@ -8,21 +8,19 @@
 #include "core/realtime/clock.h"
 
 namespace igms::web {
-void BusFeed::onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel, BusFeed* feed) {
-  const bus::Verdict checked =
-      feed->verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-  if (!checked.accepted) return;  // counted by the verifier
-  feed->view_.handle(channel, rbuf->data, checked.payload_bytes, monotonicSeconds());
-}
-
 BusFeed::BusFeed(const std::string& url, BusView& view, const std::optional<bus::BusKey>& key,
                  const std::string& program)
     : lcm_(std::make_unique<lcm::LCM>(url)), view_(view), verifier_(key, program), program_(program) {
   verifier_.acceptReplays();  // the page shows a replay (igms-replay play) as it shows a live session
   if (!lcm_->good()) throw std::runtime_error("cannot open LCM at " + url);
   out_ = std::make_unique<bus::SignedPublisher>(*lcm_, key, 16 * 1024);
-  lcm::Subscription* sub = lcm_->subscribeFunction<BusFeed*>(".*", &BusFeed::onMessage, this);
-  sub->setQueueCapacity(1000);
+  // Every message checked; the view decodes what was accepted, each by its channel's type (bus_view.h).
+  in_ = bus::subscribeRaw(
+      *lcm_, verifier_, ".*",
+      [this](const std::string& channel, const lcm::ReceiveBuffer& m, const bus::Verdict& checked) {
+        view_.handle(channel, m.data, checked.payload_bytes, monotonicSeconds());
+      },
+      {1000, nullptr, nullptr});
   thread_ = std::thread([this] {
     double next_status = monotonicSeconds() + 1.0;
     while (!stop_) {

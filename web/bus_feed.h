@@ -14,12 +14,8 @@
 
 #include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
+#include "bus/subscription.h"
 #include "web/bus_view.h"
-
-namespace lcm {
-class LCM;
-struct ReceiveBuffer;
-}
 
 namespace igms::web {
 
@@ -39,13 +35,12 @@ class BusFeed {
   bool keyed() const { return verifier_.keyed(); }
 
  private:
-  static void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel, BusFeed* feed);
-
   std::unique_ptr<lcm::LCM> lcm_;
   BusView& view_;
   bus::MessageVerifier verifier_;  // the feed thread's
   std::mutex publish_mutex_;
   std::unique_ptr<bus::SignedPublisher> out_;
+  std::unique_ptr<bus::RawSubscription> in_;
   std::string program_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

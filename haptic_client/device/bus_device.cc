@@ -8,8 +8,6 @@
 
 #include "bus/message_signature.h"
 #include "core/realtime/clock.h"
-#include "igms/device_reading_t.hpp"
-#include "safe_decode.h"
 
 namespace igms {
 namespace {
@@ -45,7 +43,9 @@ BusDevice::BusDevice(const std::string& args, const DeviceContext& context)
     throw std::runtime_error("--device lcm:NAME: NAME is a channel base (letters, digits, '_'), not '" + base_ + "'");
   if (!lcm_.good()) throw std::runtime_error("--device lcm: cannot open LCM at " + context.lcm_url);
   buffer_.resize(static_cast<size_t>(force_msg_.getEncodedSize()) + bus::kTrailerBytes);
-  lcm_.subscribe(reading_channel_, &BusDevice::onReading, this)->setQueueCapacity(64);
+  readings_ = bus::subscribe<device_reading_t>(
+      lcm_, verifier_, reading_channel_, [this](const device_reading_t& m, const bus::Verdict&) { onReading(m); }, 64,
+      [this](const bus::Verdict&) { ++refused_[kUndecodable]; });
   thread_ = std::thread([this] { receive(); });
   // The first reading brings the device's limits; the loop must not start without them.
   std::fprintf(stderr, "igms-haptic: waiting for the device's readings on %s\n", reading_channel_.c_str());
@@ -70,15 +70,7 @@ void BusDevice::receive() {
   while (!stop_) lcm_.handleTimeout(5);
 }
 
-void BusDevice::onReading(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  const auto* data = static_cast<const uint8_t*>(rbuf->data);
-  const bus::Verdict checked = verifier_.check(channel, data, rbuf->data_size);
-  if (!checked.accepted) return;  // counted by the verifier
-  device_reading_t m;
-  if (!safeDecode(data, checked.payload_bytes, &m)) {
-    ++refused_[kUndecodable];
-    return;
-  }
+void BusDevice::onReading(const device_reading_t& m) {
   const bool oriented = m.has_orientation;
   const double qn = std::sqrt(m.orientation[0] * m.orientation[0] + m.orientation[1] * m.orientation[1] +
                               m.orientation[2] * m.orientation[2] + m.orientation[3] * m.orientation[3]);

@@ -23,10 +23,12 @@
 
 #include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
+#include "bus/subscription.h"
 #include "core/realtime/latest_value.h"
 #include "haptic_client/device/device_registry.h"
 #include "haptic_client/device/haptic_device.h"
 #include "igms/device_force_t.hpp"
+#include "igms/device_reading_t.hpp"
 
 namespace igms {
 
@@ -62,14 +64,14 @@ class BusDevice : public HapticDevice {
     int64_t seq = -1, utime = 0;
     double arrived = 0.0;  // monotonic s
   };
-  void onReading(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  void onReading(const device_reading_t& m);
   void receive();
-
 
   std::string base_, reading_channel_, force_channel_;
   DeviceLimits limits_;
   lcm::LCM lcm_;
   bus::MessageVerifier verifier_;  // the receive thread's
+  std::unique_ptr<bus::Subscription<device_reading_t>> readings_;  // checked and decoded on the receive thread
   LatestValue<Taken> newest_;
   int64_t newest_seq_ = -1;        // the receive thread's
   std::atomic<int64_t> refused_[kRefusals] = {}, accepted_{0};

@@ -4,7 +4,6 @@
 
 #include "channels.h"
 #include "core/realtime/clock.h"
-#include "safe_decode.h"
 
 namespace igms {
 
@@ -34,18 +33,19 @@ ClientBus::ClientBus(const std::string& url, int nlinks, int nq, int nv, int32_t
   verifier_.pinSender({channels::kRobotState, channels::kServerStatus});
   if (accept_replay) verifier_.acceptReplays();
   if (!lcm_.good()) return;
-  lcm_.subscribe(channels::kRobotState, &ClientBus::onState, this)->setQueueCapacity(100);
-  lcm_.subscribe(channels::kServerStatus, &ClientBus::onStatus, this);
+  state_in_ = bus::subscribe<robot_state_t>(
+      lcm_, verifier_, channels::kRobotState, [this](const robot_state_t& m, const bus::Verdict&) { onState(m); },
+      100);
+  status_in_ = bus::subscribe<server_status_t>(
+      lcm_, verifier_, channels::kServerStatus, [this](const server_status_t& m, const bus::Verdict&) { onStatus(m); });
 }
 
-void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-  if (!checked.accepted) return;  // counted by the verifier; never a state
-  if (!safeDecode(rbuf->data, checked.payload_bytes, &state_msg_)) {
-    ++undecodable_;
-    return;
-  }
-  const robot_state_t* m = &state_msg_;
+int64_t ClientBus::undecodable() const {
+  return (state_in_ ? state_in_->undecodable() : 0) + (status_in_ ? status_in_->undecodable() : 0);
+}
+
+void ClientBus::onState(const robot_state_t& state) {
+  const robot_state_t* m = &state;
   if (last_state_seq_ >= 0 && m->seq > last_state_seq_ + 1) states_missed_ += m->seq - last_state_seq_ - 1;
   if (m->seq > last_state_seq_ || m->seq < last_state_seq_ - 1000) last_state_seq_ = m->seq;  // or a reset
   ReceivedState& r = states_.back();
@@ -86,14 +86,8 @@ void ClientBus::onState(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   states_.publish();
 }
 
-void ClientBus::onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-  if (!checked.accepted) return;
-  if (!safeDecode(rbuf->data, checked.payload_bytes, &status_msg_)) {
-    ++undecodable_;
-    return;
-  }
-  const server_status_t* m = &status_msg_;
+void ClientBus::onStatus(const server_status_t& status) {
+  const server_status_t* m = &status;
   {
     std::lock_guard<std::mutex> lock(names_mutex_);
     link_names_ = m->link_names;

@@ -18,6 +18,7 @@
 
 #include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
+#include "bus/subscription.h"
 #include "core/realtime/triple_buffer.h"
 #include "haptic_client/servo/state_estimate.h"
 #include "igms/haptic_input_t.hpp"
@@ -52,14 +53,14 @@ class ClientBus {
   void publishInput(const haptic_input_t& msg);
 
   // Messages that failed to decode (counted, never fatal).
-  int64_t undecodable() const { return undecodable_; }
+  int64_t undecodable() const;
   // States that never arrived: gaps in their seq (a new session starts the count afresh).
   int64_t statesMissed() const { return states_missed_; }
 
-  void onState(const lcm::ReceiveBuffer* rbuf, const std::string&);
-  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&);
-
  private:
+  void onState(const robot_state_t& m);
+  void onStatus(const server_status_t& m);
+
   const int32_t client_id_;
   lcm::LCM lcm_;
   bus::MessageVerifier verifier_;  // the bus thread's
@@ -72,11 +73,11 @@ class ClientBus {
   std::mutex names_mutex_;
   std::vector<std::string> link_names_;
   std::vector<uint8_t> buffer_;
-  robot_state_t state_msg_;   // decoded into on the bus thread (its vectors keep their capacity)
-  server_status_t status_msg_;
-  std::atomic<int64_t> undecodable_{0};
   std::atomic<int64_t> states_missed_{0};
   int64_t last_state_seq_ = -1;  // the bus thread's
+  // Last: they call into the rest. Each decodes into a message it keeps (its vectors keep their capacity).
+  std::unique_ptr<bus::Subscription<robot_state_t>> state_in_;
+  std::unique_ptr<bus::Subscription<server_status_t>> status_in_;
 };
 
 }  // namespace igms

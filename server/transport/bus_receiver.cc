@@ -2,14 +2,20 @@
 
 #include "channels.h"
 #include "core/realtime/clock.h"
-#include "safe_decode.h"
 
 namespace igms {
 
 BusReceiver::BusReceiver(lcm::LCM& bus, bus::MessageVerifier& verifier) : verifier_(verifier) {
   freeSlots();
-  bus.subscribe(channels::kHapticInput, &BusReceiver::onInput, this)->setQueueCapacity(1000);
-  bus.subscribe(channels::kCommand, &BusReceiver::onCommand, this)->setQueueCapacity(100);
+  inputs_ = bus::subscribe<haptic_input_t>(
+      bus, verifier, channels::kHapticInput, [this](const haptic_input_t& m, const bus::Verdict&) { onInput(m); },
+      1000, [this](const bus::Verdict&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (gate_) gate_->countUndecodable();
+      });
+  commands_in_ = bus::subscribe<command_t>(
+      bus, verifier, channels::kCommand, [this](const command_t& m, const bus::Verdict& v) { onCommand(&m, v); }, 100,
+      [this](const bus::Verdict& v) { onCommand(nullptr, v); });
 }
 
 void BusReceiver::startSession(const Model& model, int64_t token) {
@@ -24,16 +30,9 @@ void BusReceiver::newSession(int64_t token) {
   freeSlots();
 }
 
-void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-  if (!checked.accepted) return;  // counted by the verifier
-  haptic_input_t msg;
+void BusReceiver::onInput(const haptic_input_t& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!gate_) return;
-  if (!safeDecode(rbuf->data, checked.payload_bytes, &msg)) {
-    gate_->countUndecodable();
-    return;
-  }
   TimedInput in;
   RejectReason why;
   const double now = monotonicSeconds();
@@ -56,18 +55,14 @@ void BusReceiver::onInput(const lcm::ReceiveBuffer* rbuf, const std::string& cha
   ++counters_.inputs_accepted;
 }
 
-void BusReceiver::onCommand(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  const bus::Verdict checked = verifier_.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-  if (!checked.accepted) return;  // counted by the verifier: applies nothing
-  command_t cmd;
-  const bool decoded = safeDecode(rbuf->data, checked.payload_bytes, &cmd);
+void BusReceiver::onCommand(const command_t* cmd, const bus::Verdict& checked) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.commands_received;
-  if (!decoded || commands_.size() >= kMaxQueuedCommands) {
+  if (!cmd || commands_.size() >= kMaxQueuedCommands) {
     ++counters_.commands_refused;
     return;
   }
-  commands_.push_back({std::move(cmd), checked.signed_us});
+  commands_.push_back({*cmd, checked.signed_us});
 }
 
 bool BusReceiver::takeCommands(std::deque<ReceivedCommand>* out) {

@@ -1,6 +1,6 @@
 // The server's bus side: haptic inputs and commands from LCM. Every message
-// is first checked (bus::MessageVerifier: its signature on a signed bus);
-// what fails is counted there and goes no further. Inputs are
+// is first checked (bus::MessageVerifier: its signature on a signed bus) and
+// decoded (bus/subscription.h); what fails is counted and goes no further. Inputs are
 // validated (InputGate: rejected and counted by reason) and each client's
 // newest admitted one is handed to the step lock-free in that client's hand
 // slot (hand_slots.h); commands are queued for the
@@ -16,7 +16,9 @@
 #include <vector>
 
 #include "bus/message_verifier.h"
+#include "bus/subscription.h"
 #include "igms/command_t.hpp"
+#include "igms/haptic_input_t.hpp"
 #include "server/transport/hand_slots.h"
 #include "server/transport/input_gate.h"
 
@@ -56,10 +58,10 @@ class BusReceiver {
   BusCounters counters();
   const bus::MessageVerifier& verifier() const { return verifier_; }
 
-  void onInput(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-  void onCommand(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
-
  private:
+  void onInput(const haptic_input_t& msg);
+  void onCommand(const command_t* cmd, const bus::Verdict& checked);  // cmd null: it did not decode
+
   bus::MessageVerifier& verifier_;  // used on the receiving thread only
   std::mutex mutex_;  // guards gate_, commands_, counters_ (never taken by the step itself)
   std::unique_ptr<InputGate> gate_;
@@ -69,6 +71,8 @@ class BusReceiver {
   std::array<int32_t, kMaxHands> slot_client_;  // -1: free (guarded by mutex_)
   std::array<double, kMaxHands> slot_arrived_{};
   void freeSlots() { slot_client_.fill(-1); }
+  std::unique_ptr<bus::Subscription<haptic_input_t>> inputs_;  // last: they call into the rest
+  std::unique_ptr<bus::Subscription<command_t>> commands_in_;
 };
 
 }  // namespace igms

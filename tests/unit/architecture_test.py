@@ -46,7 +46,14 @@ def main():
     expect_broken({**ok, 'core/geometry/x.cc': '#include <fcl/fcl.h>\n'}, '<fcl/fcl.h>')
     expect_broken({**ok, 'haptic_client/servo/x.cc': '#include "server/loop/stepper.h"\n'}, 'haptic_client may not')
     expect_broken({**ok, 'server/x.cc': '#include "tools/replay/resimulate.h"\n'}, 'server may not include')
-    print('architecture_test: 9 passed, 0 failed')
+    expect_broken({**ok, 'tools/spy/x.cc': 'void f(lcm::LCM& lc) { lc.subscribe("A", &S::on, &s); }\n'},
+                  'may not make the call lcm-subscribe')
+    expect_broken({**ok, 'web/x.cc': 'auto* s = lcm_->subscribeFunction<F*>(".*", &F::on, this);\n'},
+                  'may not make the call lcm-subscribe')
+    code, out = run(tree({**ok, 'bus/x.h': 'lcm_.subscribeFunction<R*>(c, &R::arrived, this);\n',
+                          'server/y.cc': 'auto in = bus::subscribe<haptic_input_t>(lc, v, "C", h);\n'}))
+    assert code == 0, 'bus/ calling LCM, and a program calling bus::subscribe, were reported broken:\n' + out
+    print('architecture_test: 12 passed, 0 failed')
 
 
 if __name__ == '__main__':

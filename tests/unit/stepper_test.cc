@@ -207,8 +207,8 @@ TEST(BusReceiver, AFifthHandIsRefusedWhileFourAreActive) {
     m.tip_radius = 0.01;
     m.tip_orientation[0] = m.attach_orientation[0] = 1.0;
     const int n = m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
-    lcm::ReceiveBuffer rbuf{buffer.data(), static_cast<uint32_t>(n), 0};
-    receiver.onInput(&rbuf, "IGMS_HAPTIC_INPUT");
+    ASSERT_EQ(bus.publish("IGMS_HAPTIC_INPUT", buffer.data(), static_cast<unsigned>(n)), 0);
+    ASSERT_GT(bus.handleTimeout(1000), 0);  // the receiver's subscription: checked, decoded, admitted
   };
   for (int32_t c = 1; c <= 5; ++c) send(c, 1);
   const BusCounters counters = receiver.counters();

@@ -23,28 +23,28 @@
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
 #include "bus/signed_publisher.h"
+#include "bus/subscription.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/clock.h"
 #include "igms/command_t.hpp"
 #include "igms/server_status_t.hpp"
-#include "safe_decode.h"
 
 namespace {
 
 // The newest verified server status.
 struct StatusWatch {
-  explicit StatusWatch(std::optional<igms::bus::BusKey> key) : verifier(std::move(key), "igms-command") {}
-  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    const igms::bus::Verdict v = verifier.check(channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
-    igms::server_status_t s;
-    if (!v.accepted || !igms::safeDecode(rbuf->data, v.payload_bytes, &s)) return;
-    status = s;
-    ++heard;
-  }
+  StatusWatch(lcm::LCM& bus, std::optional<igms::bus::BusKey> key)
+      : verifier(std::move(key), "igms-command"),
+        in(igms::bus::subscribe<igms::server_status_t>(bus, verifier, igms::channels::kServerStatus,
+                                                        [this](const igms::server_status_t& s, const igms::bus::Verdict&) {
+                                                          status = s;
+                                                          ++heard;
+                                                        })) {}
   igms::bus::MessageVerifier verifier;
   igms::server_status_t status{};
   int64_t heard = 0;
+  std::unique_ptr<igms::bus::Subscription<igms::server_status_t>> in;  // last: it writes the rest
 };
 
 // Handles the bus until `done` or the timeout; false on the timeout.
@@ -120,8 +120,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "igms-command: cannot open LCM\n");
     return 2;
   }
-  StatusWatch watch(key);
-  bus.subscribe(igms::channels::kServerStatus, &StatusWatch::onStatus, &watch);
+  StatusWatch watch(bus, key);
   if (!waitFor(bus, timeout, [&] { return watch.heard > 0; })) {
     const bool refused = watch.verifier.counts().refusedTotal() > 0;
     std::fprintf(stderr, "igms-command: no server status within %.0f s%s\n", timeout,

@@ -26,6 +26,7 @@
 #include <deque>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <mutex>
 #include <regex>
@@ -37,6 +38,7 @@
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
 #include "bus/printable_name.h"
+#include "bus/subscription.h"
 #include "channels.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
@@ -105,11 +107,20 @@ class Logger {
     verifier_.acceptReplays();  // a recorder: a replay on the bus is recorded as such, not refused
   }
 
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& received_on) {
+  // Every message the filter takes, checked: the refused are recorded too, under REFUSED:why:channel.
+  std::unique_ptr<igms::bus::RawSubscription> listen(lcm::LCM& bus) {
+    igms::bus::RawSubscription::Options o;
+    o.queue_capacity = 100000;
+    o.wanted = [this](const std::string& channel) { return std::regex_match(channel, filter_) != o_.invert; };
+    auto record = [this](const std::string& channel, const lcm::ReceiveBuffer& m, const igms::bus::Verdict& v) {
+      onMessage(channel, m, v);
+    };
+    o.refused = record;
+    return igms::bus::subscribeRaw(bus, verifier_, ".*", record, std::move(o));
+  }
+
+  void onMessage(const std::string& received_on, const lcm::ReceiveBuffer& m, const igms::bus::Verdict& checked) {
     // The bus thread: copy and queue, never the disk.
-    if (std::regex_match(received_on, filter_) == o_.invert) return;
-    const igms::bus::Verdict checked =
-        verifier_.check(received_on, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size);
     const std::string channel =
         checked.accepted ? received_on : std::string("REFUSED:") + igms::bus::refusalName(checked.why) + ":" + received_on;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -118,8 +129,8 @@ class Logger {
       ++dropped_[countedAs(dropped_, channel)];
       return;
     }
-    const auto* p = static_cast<const uint8_t*>(rbuf->data);
-    queue_.push_back({rbuf->recv_utime, channel, std::vector<uint8_t>(p, p + rbuf->data_size)});
+    const auto* p = static_cast<const uint8_t*>(m.data);
+    queue_.push_back({m.recv_utime, channel, std::vector<uint8_t>(p, p + m.data_size)});
     if (channel == igms::channels::kSessionInfo) have_session_ = true;
     ready_.notify_one();
   }
@@ -329,7 +340,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   Logger logger(o, key);
-  bus.subscribe(".*", &Logger::onMessage, &logger)->setQueueCapacity(100000);
+  const auto subscription = logger.listen(bus);
   std::atomic<bool> writer_stop{false};
   std::thread writer([&] {
     try {

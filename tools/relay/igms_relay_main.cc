@@ -16,11 +16,13 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
+#include <memory>
 #include <regex>
 #include <string>
 
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
+#include "bus/subscription.h"
 #include "core/cli/command_line.h"
 #include "core/realtime/stop_signal.h"
 #include "tools/relay/delay_line.h"
@@ -60,12 +62,13 @@ class Path {
        uint32_t seed, const std::optional<igms::bus::BusKey>& key)
       : name_(name), to_(to), line_(f, seed), verifier_(key, "igms-relay") {
     verifier_.acceptReplays();  // a link: replays pass as they are, the far end decides
-    from.subscribe(channels, &Path::onMessage, this)->setQueueCapacity(100000);
-  }
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    const auto* data = static_cast<const uint8_t*>(rbuf->data);
-    if (!verifier_.check(channel, data, rbuf->data_size).accepted) return;  // counted
-    line_.admit(channel, data, rbuf->data_size, now());
+    // What is accepted goes on as it arrived, trailer and all; what is refused is counted, not forwarded.
+    in_ = igms::bus::subscribeRaw(
+        from, verifier_, channels,
+        [this](const std::string& channel, const lcm::ReceiveBuffer& m, const igms::bus::Verdict&) {
+          line_.admit(channel, static_cast<const uint8_t*>(m.data), m.data_size, now());
+        },
+        {100000, nullptr, nullptr});
   }
   void release(double t) {
     while (line_.popDue(t, &held_)) to_.publish(held_.channel, held_.data.data(), static_cast<unsigned>(held_.data.size()));
@@ -89,6 +92,7 @@ class Path {
   igms::DelayLine line_;
   igms::HeldMessage held_;
   igms::bus::MessageVerifier verifier_;
+  std::unique_ptr<igms::bus::RawSubscription> in_;
 };
 
 int run(const Options& o, const std::atomic<bool>& stop) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <mutex>
 #include <regex>
@@ -20,6 +21,7 @@
 #include "bus/bus_key.h"
 #include "bus/message_verifier.h"
 #include "bus/printable_name.h"
+#include "bus/subscription.h"
 #include "igms/bus_status_t.hpp"
 #include "igms/device_force_t.hpp"
 #include "igms/device_reading_t.hpp"
@@ -246,20 +248,28 @@ class Spy {
                  decoder<igms::bus_status_t>(), decoder<igms::device_status_t>(), decoder<igms::device_reading_t>(),
                  decoder<igms::device_force_t>(), decoder<igms::session_files_t>()};
   }
-  void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-    if (!std::regex_match(channel, filter_)) return;
+  // Every message on the bus, checked: the accepted decoded, the refused counted.
+  std::unique_ptr<igms::bus::RawSubscription> listen(lcm::LCM& bus) {
+    igms::bus::RawSubscription::Options o;
+    o.queue_capacity = 100000;
+    o.wanted = [this](const std::string& channel) { return std::regex_match(channel, filter_); };
+    auto take = [this](const std::string& channel, const lcm::ReceiveBuffer& m, const igms::bus::Verdict& v) {
+      onMessage(channel, static_cast<const uint8_t*>(m.data), m.data_size, v);
+    };
+    o.refused = take;
+    return igms::bus::subscribeRaw(bus, verifier_, ".*", take, std::move(o));
+  }
+  void onMessage(const std::string& channel, const uint8_t* d, size_t size, const igms::bus::Verdict& checked) {
     const double t = now();
     std::lock_guard<std::mutex> lock(mutex_);
     const bool counted = channels_.count(channel) > 0 || channels_.size() < kMaxChannels;
     Channel& c = channels_[counted ? channel : std::string(kOtherChannels)];
     ++c.count;
-    c.bytes += rbuf->data_size;
+    c.bytes += size;
     c.arrivals.push_back(t);
-    c.sizes.push_back(rbuf->data_size);
-    const auto* d = static_cast<const uint8_t*>(rbuf->data);
+    c.sizes.push_back(size);
     igms::bus::Trailer trailer;
-    c.signed_ = igms::bus::findTrailer(d, rbuf->data_size, &trailer);
-    const igms::bus::Verdict checked = verifier_.check(channel, d, rbuf->data_size);
+    c.signed_ = igms::bus::findTrailer(d, size, &trailer);
     if (!checked.accepted) {
       ++c.refused;
       return;
@@ -386,7 +396,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   Spy spy(filter, key);
-  bus.subscribe(".*", &Spy::onMessage, &spy)->setQueueCapacity(100000);
+  const auto subscription = spy.listen(bus);
   const double start = now();
   double next_draw = start + 0.5;
   const std::string where = url.empty() ? igms::channels::kDefaultUrl : url;
