@@ -61,6 +61,15 @@ def last_row(path, running=None):
     return rows[-1] if rows else None
 
 
+def client_proxy_limited(path):
+    """Cycles the clients' proxies ran out of substeps: each client's total (its largest count), summed."""
+    most = {}
+    for r in csv.DictReader(open(path)):
+        c = r.get("client", "")
+        most[c] = max(most.get(c, 0), int(r.get("proxy_substep_limited") or 0))
+    return sum(most.values())
+
+
 def hand_interactions(path):
     """{client: {"interactions": [...]}} from the export's hands.csv: each client's stretches of push or pull,
     with the largest force and torque it applied (clients that never interacted are left out)."""
@@ -181,6 +190,11 @@ def main():
         "round_trip_p50_us": round(float(client["rtt_us_p50"])) if client else None,
         "round_trip_p99_us": round(float(client["rtt_us_p99"])) if client else None,
         "server_steps": int(server["steps"]) if server else None,
+        # Counted, never silent: what the server cut short or left out (0 in a session within its sizing).
+        "contact_unconverged": int(server.get("contact_unconverged") or 0) if server else None,
+        "contact_candidates_dropped": int(server.get("contact_candidates_dropped") or 0) if server else None,
+        "server_proxy_substep_limited": int(server.get("proxy_substep_limited") or 0) if server else None,
+        "client_proxy_substep_limited": client_proxy_limited(os.path.join(exp, "client_status.csv")) if client else None,
         "steps": len(rows),
     }
     if len(hands) > 1:  # several people at once: each hand's interactions and its client's loop
@@ -257,6 +271,11 @@ def main():
             lines.append("- the robot touched a free body: " + (
                 f"**yes**, first at t = {summary['robot_first_touched_body_s']} s" if summary["robot_touched_bodies"]
                 else "**no**"))
+    if server:
+        lines.append(f"- cut short or left out: {summary['contact_unconverged']} unconverged contact solves, "
+                     f"{summary['contact_candidates_dropped']} candidate contact pairs dropped, "
+                     f"{summary['server_proxy_substep_limited']} server proxy cycles and "
+                     f"{summary['client_proxy_substep_limited'] or 0} client proxy cycles out of substeps")
     if client and not summary.get("hands"):
         lines.append(f"- haptic client: {summary['client_rate_hz']:.1f} Hz, {summary['deadline_misses']} deadline "
                      f"misses, round trip p50 {summary['round_trip_p50_us']} us, p99 {summary['round_trip_p99_us']} us")

@@ -431,6 +431,13 @@ const Proxy* Simulation::proxyOf(int32_t client) const {
   return nullptr;
 }
 
+int64_t Simulation::proxySubstepLimited() const {
+  int64_t n = 0;
+  if (touch_world_)
+    for (const HandTrack& h : hands_) n += h.proxy.substepLimited();
+  return n;
+}
+
 const std::vector<SE3>& Simulation::linkPoses() {
   forwardKinematics(*model_, *data_, q_);
   for (size_t f = 0; f < link_poses_.size(); ++f) link_poses_[f] = data_->oMf[f];

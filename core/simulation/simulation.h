@@ -148,6 +148,8 @@ class Simulation {
   // What the hands' proxies touch (null with push off), and a hand's proxy (null: no such client yet).
   const TouchWorld* touchWorld() const { return touch_world_.get(); }
   const Proxy* proxyOf(int32_t client) const;
+  // Cycles in which a hand's proxy ran out of its substep budget (it catches up the next), every hand's.
+  int64_t proxySubstepLimited() const;
   // The first robot's goal configuration (end of its nominal trajectory; its initial q without one),
   // its coordinates; without robots, the whole initial q.
   const VectorX& goal() const { return controllers_.empty() ? resolved_.q0 : controllers_.front()->goal(); }

@@ -28,9 +28,7 @@ class PiecewisePolynomial {
   // q, qd, qdd at t (held constant outside [start, end]).
   void evaluate(double t, VectorX& q, VectorX& qd, VectorX& qdd) const;
 
-  double startTime() const { return breaks_.empty() ? 0.0 : breaks_.front(); }
   double endTime() const { return breaks_.empty() ? 0.0 : breaks_.back(); }
-  int dimension() const { return n_; }
   int segments() const { return segments_; }
   bool empty() const { return segments_ == 0; }
   // Final configuration.

@@ -69,6 +69,9 @@ void printSummary(const ServoStats& s, double wall) {
                quantileText(s.rtt_all, 0.5).c_str(), quantileText(s.rtt_all, 0.99).c_str(),
                quantileText(s.rtt_all, 0.999).c_str(), s.rtt_all.max(), static_cast<long long>(s.rtt_all.count()),
                quantileText(s.jitter_all, 0.5).c_str(), quantileText(s.jitter_all, 0.99).c_str(), s.jitter_all.max());
+  if (s.proxy_substep_limited.load() > 0)
+    std::fprintf(stderr, "igms-haptic: the tip's proxy ran out of its substep budget in %lld cycles (caught up the next)\n",
+                 static_cast<long long>(s.proxy_substep_limited.load()));
   if (s.local_runs.load() > 0)
     std::fprintf(stderr, "igms-haptic: local model: %lld cycles estimated by it, deepest overlap in its estimate %.3f mm\n",
                  static_cast<long long>(s.local_runs.load()), s.local_max_penetration.load() * 1e3);

@@ -55,8 +55,6 @@ class ScriptedDevice : public HapticDevice {
   DeviceLimits limits() const override { return limits_; }
   DeviceReading read(double t) override;
   void write(const Vector3& force) override { force_ = force; }
-  void writeTorque(const Vector3& torque) override { torque_ = torque; }
-  const Vector3& lastTorque() const { return torque_; }
   bool finished(double t) const override { return t >= end_; }
   double endTime() const { return end_; }
   // The script as its device saw it (device frame, link waypoints as they were resolved; one not
@@ -93,7 +91,7 @@ class ScriptedDevice : public HapticDevice {
   std::vector<ButtonEvent> buttons_;
   double end_ = 0.0;
   DeviceLimits limits_ = simulatedDeviceLimits();
-  Vector3 force_ = Vector3::Zero(), torque_ = Vector3::Zero();
+  Vector3 force_ = Vector3::Zero();
   bool has_orientation_ = false;
   Eigen::Quaterniond last_orientation_ = Eigen::Quaterniond::Identity();
   // Simulated hand.

@@ -73,7 +73,6 @@ class ClientInteraction {
   double maxForceStep() const { return max_force_step_; }
   int64_t slewLimited() const { return slew_limited_; }
   const PassivityController& passivity() const { return passivity_; }
-  const PassivityController& rotationalPassivity() const { return passivity_rot_; }
 
  private:
   const Model& model_;

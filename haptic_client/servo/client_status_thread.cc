@@ -78,6 +78,7 @@ void ClientStatusThread::publishStatus(double now) {
   s.prediction_ms = stats_.prediction_ms;
   s.force_slew_limited = stats_.slew_limited;
   s.passivity_acted = stats_.passivity_acted;
+  s.proxy_substep_limited = stats_.proxy_substep_limited;
   s.passivity_dissipated = stats_.passivity_dissipated;
   s.late_cycles = stats_.late_cycles;
   s.skipped_periods = stats_.skipped_periods;

@@ -207,6 +207,7 @@ void ServoLoop::render(int64_t k, const Vector3& tip, const Vector3& tip_velocit
   stats_.max_force_step = interaction_.maxForceStep();
   stats_.slew_limited = interaction_.slewLimited();
   stats_.passivity_acted = interaction_.passivity().acted();
+  stats_.proxy_substep_limited = interaction_.proxy().substepLimited();
   stats_.passivity_dissipated = interaction_.passivity().dissipated();
   stats_.passivity_min_energy = interaction_.passivity().minEnergy();
   stats_.force_scale = interaction_.forceScale();

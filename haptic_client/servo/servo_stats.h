@@ -106,7 +106,7 @@ struct DeviceCallTimes {
 
 struct ServoStats {
   std::atomic<int64_t> cycles{0}, misses{0}, max_consecutive{0}, fallbacks{0}, late{0}, slew_limited{0},
-      passivity_acted{0}, late_cycles{0}, skipped_periods{0};
+      passivity_acted{0}, late_cycles{0}, skipped_periods{0}, proxy_substep_limited{0};
   std::atomic<double> state_age_ms{0}, prediction_ms{0}, force_scale{1}, max_force_step{0}, passivity_dissipated{0},
       passivity_min_energy{0};
   std::atomic<int> mode{0};

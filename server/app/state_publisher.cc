@@ -124,6 +124,8 @@ void StatePublisher::publish(const Snapshot& s) {
   stats_.last_sim_time = s.sim_time;
   stats_.step_times_us.push_back(s.step_us);
   stats_.solve = s.solve;
+  stats_.candidates_dropped = s.candidates_dropped;
+  stats_.proxy_substep_limited = s.proxy_substep_limited;
   if (s.solved) {
     stats_.solve_sweeps_max = std::max(stats_.solve_sweeps_max, s.solve.iterations);
     stats_.solve_residual_max = std::max(stats_.solve_residual_max, s.solve.residual);

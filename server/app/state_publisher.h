@@ -39,6 +39,8 @@ struct PublishStats {
   ContactSolveStats solve;             // the contact solver's totals, as of the newest state
   int solve_sweeps_max = 0;            // since the status last drained them: the most sweeps in a solve,
   double solve_residual_max = 0.0;     // and the largest final residual (m/s)
+  int64_t candidates_dropped = 0;      // as of the newest state (snapshot.h)
+  int64_t proxy_substep_limited = 0;
 };
 
 // One LCM datagram's payload at most (LCM 1.3.1 sends a message as one UDP datagram; a larger one

@@ -110,6 +110,8 @@ void StatusReporter::publishStatus(PublishStats& p) {
   s.contact_warm_dropped = p.solve.warm_dropped;
   s.contact_sweeps_max = p.solve_sweeps_max;
   s.contact_residual_max = p.solve_residual_max;
+  s.contact_candidates_dropped = p.candidates_dropped;
+  s.proxy_substep_limited = p.proxy_substep_limited;
   p.solve_sweeps_max = 0;
   p.solve_residual_max = 0.0;
   bus_.publish(channels::kServerStatus, s);
@@ -134,11 +136,14 @@ void StatusReporter::print(const server_status_t& s, const PublishStats& p) cons
                s.state.c_str(), s.message.empty() ? "" : ": ", s.message.c_str());
   if (s.contact_solves > 0)
     std::fprintf(stderr,
-                 "igms-server:   contact: %lld solves, %lld unconverged (positions %lld), %lld warm starts dropped; "
-                 "this period at most %d sweeps, residual %.2g m/s\n",
+                 "igms-server:   contact: %lld solves, %lld unconverged (positions %lld), %lld warm starts dropped, "
+                 "%lld candidate pairs dropped; this period at most %d sweeps, residual %.2g m/s\n",
                  static_cast<long long>(s.contact_solves), static_cast<long long>(s.contact_unconverged),
                  static_cast<long long>(s.contact_position_unconverged), static_cast<long long>(s.contact_warm_dropped),
-                 s.contact_sweeps_max, s.contact_residual_max);
+                 static_cast<long long>(s.contact_candidates_dropped), s.contact_sweeps_max, s.contact_residual_max);
+  if (s.proxy_substep_limited > 0)
+    std::fprintf(stderr, "igms-server:   hands' proxies: %lld cycles cut short by the substep budget\n",
+                 static_cast<long long>(s.proxy_substep_limited));
   for (int k = 0; k < s.nclients && s.seq % 10 == 0; ++k) {  // the clients, once a second
     static const char* const kModes[] = {"none", "push", "pull"};
     const int8_t m = s.client_modes[static_cast<size_t>(k)];

@@ -37,6 +37,8 @@ struct Snapshot {
   // Filled on the steps the contact channel is due (contacts_due), else left stale.
   ContactSolveStats solve;  // the contact solver's, after this step (solved: the step had contacts)
   bool solved = false;
+  int64_t candidates_dropped = 0;     // contact detection's pairs dropped (a crowd beyond its buffers), total
+  int64_t proxy_substep_limited = 0;  // hands' proxy cycles cut short by the substep budget, total
   bool contacts_due = false;
   int ncontacts = 0, contacts_total = 0;
   int64_t contacts_dropped = 0;
@@ -128,6 +130,8 @@ inline void takeSnapshot(Simulation& sim, int64_t utime, int32_t step_us, bool c
   for (size_t f = 0; f < poses.size(); ++f) s.link_poses[f] = poses[f];
   s.solve = sim.contactStats();
   s.solved = sim.contacts().n > 0;
+  s.candidates_dropped = sim.contactDetection() ? sim.contactDetection()->candidatePairsDropped() : 0;
+  s.proxy_substep_limited = sim.proxySubstepLimited();
   s.contacts_due = contacts_due && !s.contacts.empty();
   if (s.contacts_due) takeContacts(sim, s);
 }

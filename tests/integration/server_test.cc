@@ -146,6 +146,8 @@ TEST(Server, TheStatusCountsTheContactSolves) {
   EXPECT_GE(st.contact_solves, st.steps - 1) << "a solve every step";
   EXPECT_EQ(st.contact_unconverged, 0);
   EXPECT_EQ(st.contact_position_unconverged, 0);
+  EXPECT_EQ(st.contact_candidates_dropped, 0) << "ten boxes are well within detection's buffers";
+  EXPECT_EQ(st.proxy_substep_limited, 0) << "no hand";
   EXPECT_GE(st.contact_sweeps_max, 1);
   EXPECT_GE(st.contact_residual_max, 0.0);
   EXPECT_LE(st.contact_residual_max, 1e-10);

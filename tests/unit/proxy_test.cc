@@ -138,6 +138,27 @@ TEST(Proxy, OnTheGroundItSlidesWithTheDeviceAndTheForceIsTheWalls) {
   EXPECT_EQ(p.deepest(w.world, Vector3(0.2, 0.1, -0.045), false), 0);
 }
 
+// A small tip moves at most kMaxSubsteps half-radius steps a cycle: a device 4 cm along the floor in one
+// cycle (under kJump: a fast hand, not a jump) takes a 2 mm tip's proxy three cycles, and the two it
+// ran out of substeps are counted (the server's status and the client's report them).
+TEST(Proxy, ACycleCutShortByTheSubstepBudgetIsCountedAndCaughtUpNext) {
+  constexpr double r = 0.002, per_cycle = Proxy::kMaxSubsteps * 0.5 * r;  // 16 mm
+  FixedWorld w({shape(CollisionShape::Kind::Plane, Vector3::Zero())});
+  Proxy p(w.world);
+  p.update(w.world, w.poses, Vector3(0, 0, 0.01), r, false);
+  for (int k = 0; k <= 15; ++k) p.update(w.world, w.poses, Vector3(0, 0, 0.01 - 0.001 * k), r, false);
+  ASSERT_EQ(p.touches(), 1);
+  EXPECT_EQ(p.substepLimited(), 0);
+  const Vector3 device(0.04, 0.0, -0.005);
+  const double expect_x[] = {per_cycle, 2 * per_cycle, 0.04};
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    p.update(w.world, w.poses, device, r, false);
+    EXPECT_NEAR(p.position().x(), expect_x[cycle], 1e-9) << "cycle " << cycle;
+    EXPECT_NEAR(p.position().z(), r, 1e-12);
+    EXPECT_EQ(p.substepLimited(), std::min(cycle + 1, 2)) << "cycle " << cycle;
+  }
+}
+
 TEST(Proxy, InAnInsideCornerItStopsAndNeverEnters) {
   // The floor and a wall (x >= 0.1): the device goes deep into the corner and along it.
   SE3 wall;

@@ -13,11 +13,19 @@
 namespace igms::test {
 namespace {
 
+struct SceneText {
+  std::string yaml;
+};
+
 struct Rig {
   explicit Rig(bool lockstep, const std::string& scene = "puma_wall.yaml", int contact_every = 0)
       : sim(loadScene(sourceDir() + "/scenes/" + scene)),
         ring(sim.model(), 4, sim.contactModel() ? sim.contactModel()->capacity() : 0),
         stepper(sim, hands, ring, status, lockstep, /*input_hold_s=*/0.05, contact_every) {}
+  Rig(bool lockstep, const SceneText& scene)
+      : sim(parseScene(scene.yaml, "test.yaml", sourceDir() + "/scenes")),
+        ring(sim.model(), 4, sim.contactModel() ? sim.contactModel()->capacity() : 0),
+        stepper(sim, hands, ring, status, lockstep, /*input_hold_s=*/0.05, 0) {}
   void send(int64_t seq, double age_s, int slot = 0, int32_t client = 7) {
     TimedInput in;
     in.input.seq = seq;
@@ -88,6 +96,24 @@ TEST(Stepper, SnapshotsCarryTheContactsOnTheStepsTheyAreDue) {
     rig.ring.endRead();
   }
   EXPECT_EQ(due, 3);
+}
+
+// What the step cut short or left out rides on every snapshot, for the status (server_status_t): 60
+// balls heaped on one spot overflow contact detection's buffers, and the pairs it dropped are counted.
+TEST(Stepper, SnapshotsCarryWhatTheStepLeftOut) {
+  std::string yaml = "bodies:\n";
+  for (int k = 0; k < 60; ++k)
+    yaml += "  - {name: b" + std::to_string(k) + ", shape: sphere, radius: 0.05, mass: 1, xyz: [" +
+            std::to_string(1e-4 * k) + ", 0, 1]}\n";
+  Rig rig(/*lockstep=*/true, SceneText{yaml});
+  ASSERT_TRUE(rig.stepper.step());
+  const Snapshot* s = rig.ring.beginRead();
+  ASSERT_NE(s, nullptr);
+  ASSERT_NE(rig.sim.contactDetection(), nullptr);
+  EXPECT_GT(s->candidates_dropped, 0);
+  EXPECT_EQ(s->candidates_dropped, rig.sim.contactDetection()->candidatePairsDropped());
+  EXPECT_EQ(s->proxy_substep_limited, rig.sim.proxySubstepLimited());
+  rig.ring.endRead();
 }
 
 TEST(Stepper, LockstepUsesEachInputWhateverItsAgeAndCountsRingDrops) {

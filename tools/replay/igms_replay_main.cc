@@ -295,11 +295,12 @@ int exportCsv(const std::string& path, const std::string& dir) {
   // Every file starts with its header (states.csv's depends on the robot: written with its first row).
   inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link,client\n";
   client << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
-            "rendered_fx,rendered_fy,rendered_fz,client\n";
+            "rendered_fx,rendered_fy,rendered_fz,client,proxy_substep_limited\n";
   // One row per hand per state: every input a step consumed and the force that hand applied.
   hands << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
   server << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
-            "first_collision_time,min_obstacle_distance,commands_received,commands_rejected\n";
+            "first_collision_time,min_obstacle_distance,commands_received,commands_rejected,contact_solves,"
+            "contact_unconverged,contact_candidates_dropped,proxy_substep_limited\n";
   bool header = false, wrote_models = false;
   std::vector<std::string> links;  // the state's link order, from any server status in the log
   for (const auto& e : c.events) {
@@ -342,7 +343,8 @@ int exportCsv(const std::string& path, const std::string& dir) {
       server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
              << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
              << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
-             << s.commands_rejected << "\n";
+             << s.commands_rejected << "," << s.contact_solves << "," << s.contact_unconverged << ","
+             << s.contact_candidates_dropped << "," << s.proxy_substep_limited << "\n";
     } else if (e.channel == igms::channels::kRobotState) {
       igms::robot_state_t s;
       if (!igms::safeDecode(d, n, &s)) continue;
@@ -392,7 +394,7 @@ int exportCsv(const std::string& path, const std::string& dir) {
       client << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
              << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
              << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "," << s.client_id
-             << "\n";
+             << "," << s.proxy_substep_limited << "\n";
     }
   }
   // An environment (free bodies, several robots, contact): environment.csv from the re-simulation
