@@ -1,7 +1,8 @@
 """Every link in the README and the docs/ pages resolves: a relative file
 (or image) exists, and an #anchor names a heading of its page (GitHub's
 slugs). The README is split into pages that link one another; a moved
-section must not leave a dead link behind.
+section must not leave a dead link behind. And the README stays readable as
+text: no line of it over 200 characters.
 
   docs_links_test.py SOURCE_DIR
 """
@@ -40,7 +41,12 @@ for page in pages:
             bad.append("%s: %s: no such file" % (where, target))
         elif anchor and file.endswith(".md") and anchor not in anchors(file):
             bad.append("%s: %s: no heading '#%s' in %s" % (where, target, anchor, os.path.relpath(file, root)))
+README_WIDTH = 200
+long_lines = [(n, len(line)) for n, line in enumerate(open(pages[0]).read().split("\n"), 1) if len(line) > README_WIDTH]
 for b in bad:
     print("dead link:", b)
-print("docs_links_test: %d links on %d pages, %d dead" % (checked, len(pages), len(bad)))
-sys.exit(1 if bad else 0)
+for n, width in long_lines:
+    print("README.md:%d: %d characters (at most %d)" % (n, width, README_WIDTH))
+print("docs_links_test: %d links on %d pages, %d dead; %d README lines over %d characters"
+      % (checked, len(pages), len(bad), len(long_lines), README_WIDTH))
+sys.exit(1 if bad or long_lines else 0)
