@@ -105,9 +105,14 @@ bool ContactDetection::nearListHolds() const {
 }
 
 void ContactDetection::detect(const Data& data, ContactSet& out) {
-  const auto& geoms = cm_.geoms();
-  const double margin = cm_.settings().margin;
   place(data);
+  broadPhase();
+  planeCandidates();
+  narrowPhase(out);
+}
+
+void ContactDetection::broadPhase() {
+  const double margin = cm_.settings().margin;
   if (!near_valid_ || !nearListHolds()) {
     // The pairs whose bounding spheres come within margin + skin, found through boxes that hold
     // those spheres (a box's own bounds change as it turns; its sphere's do not).
@@ -120,26 +125,30 @@ void ContactDetection::detect(const Data& data, ContactSet& out) {
     }
     near_valid_ = findPairs(wide_, margin + skin_, near_, nnear_) == 0;
   }
-  if (near_valid_) {
-    // The list's pairs that are candidates now, in its order (by pair).
-    npairs_ = 0;
-    for (int k = 0; k < nnear_; ++k) {
-      const auto [i, j] = near_[static_cast<size_t>(k)];
-      const size_t I = static_cast<size_t>(i), J = static_cast<size_t>(j);
-      const double reach = reach_[I] + reach_[J] + margin;
-      if (!overlap(box_[I], box_[J]) || !((centre_[I] - centre_[J]).squaredNorm() < reach * reach)) continue;
-      if (npairs_ >= static_cast<int>(pairs_.size())) {
-        ++pairs_dropped_;
-        continue;
-      }
-      pairs_[static_cast<size_t>(npairs_++)] = near_[static_cast<size_t>(k)];
-    }
-  } else {
+  if (!near_valid_) {
     // Too many near pairs for the list: this step's candidates straight from the broad phase.
     pairs_dropped_ += findPairs(box_, margin, pairs_, npairs_);
+    return;
   }
+  // The list's pairs that are candidates now, in its order (by pair).
+  npairs_ = 0;
+  for (int k = 0; k < nnear_; ++k) {
+    const auto [i, j] = near_[static_cast<size_t>(k)];
+    const size_t I = static_cast<size_t>(i), J = static_cast<size_t>(j);
+    const double reach = reach_[I] + reach_[J] + margin;
+    if (!overlap(box_[I], box_[J]) || !((centre_[I] - centre_[J]).squaredNorm() < reach * reach)) continue;
+    if (npairs_ >= static_cast<int>(pairs_.size())) {
+      ++pairs_dropped_;
+      continue;
+    }
+    pairs_[static_cast<size_t>(npairs_++)] = near_[static_cast<size_t>(k)];
+  }
+}
+
+void ContactDetection::planeCandidates() {
   // Planes against every moving geom whose box reaches below them; merged into the order by pair
   // (one plane's pairs come in order already).
+  const double margin = cm_.settings().margin;
   int nplanar = 0;
   for (int p : planes_) {
     const Vector3 n = pose_[static_cast<size_t>(p)].R.col(2);
@@ -157,12 +166,16 @@ void ContactDetection::detect(const Data& data, ContactSet& out) {
       planar_[static_cast<size_t>(nplanar++)] = pair;
     }
   }
-  if (nplanar > 0) {
-    if (planes_.size() > 1) std::sort(planar_.begin(), planar_.begin() + nplanar);
-    std::merge(pairs_.begin(), pairs_.begin() + npairs_, planar_.begin(), planar_.begin() + nplanar, sorted_.begin());
-    std::swap(pairs_, sorted_);
-    npairs_ += nplanar;
-  }
+  if (nplanar == 0) return;
+  if (planes_.size() > 1) std::sort(planar_.begin(), planar_.begin() + nplanar);
+  std::merge(pairs_.begin(), pairs_.begin() + npairs_, planar_.begin(), planar_.begin() + nplanar, sorted_.begin());
+  std::swap(pairs_, sorted_);
+  npairs_ += nplanar;
+}
+
+void ContactDetection::narrowPhase(ContactSet& out) const {
+  const auto& geoms = cm_.geoms();
+  const double margin = cm_.settings().margin;
   out.n = 0;
   ContactPoint pts[kMaxPairPoints];
   for (int k = 0; k < npairs_; ++k) {

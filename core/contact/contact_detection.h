@@ -35,8 +35,16 @@ class ContactDetection {
   double skin() const { return skin_; }
 
  private:
+  // The stages of detect(), in order.
   // The geoms' world poses, boxes and bounding-sphere centres at data.oMi.
   void place(const Data& data);
+  // The candidate pairs among the solids, by pair: from the near list (rebuilt first if it no longer
+  // holds), or straight from the broad phase when the list cannot be held.
+  void broadPhase();
+  // The planes' candidates (every moving geom whose box reaches below one), merged in by pair.
+  void planeCandidates();
+  // Each candidate's contact points (shapeContacts), with their pair's material, into out.
+  void narrowPhase(ContactSet& out) const;
   // The pairs whose `boxes` overlap and whose bounding spheres come within `extra`, that may touch,
   // into out[0, n) (its capacity fixed) ordered by pair. \return how many did not fit.
   int findPairs(const std::vector<Aabb>& boxes, double extra, std::vector<std::pair<int, int>>& out, int& n);
