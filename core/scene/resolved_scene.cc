@@ -116,16 +116,14 @@ int ResolvedScene::materialIndex(const std::string& name) const {
   return 0;
 }
 
-ResolvedScene resolveScene(const Scene& scene) {
-  ResolvedScene r;
-  r.scene = scene;
-  const Scene& s = r.scene;
-  r.material_names.push_back("default");
-  for (const auto& [name, m] : s.materials)
-    if (name != "default") r.material_names.push_back(name);
-  // Each robot's model, then the environment holding them and the free bodies.
+namespace {
+
+// The stages of resolveScene, in order.
+
+// Each robot's model, then the environment holding them and the free bodies (one robot alone at the
+// origin: its own model, as it always was, bit for bit). robot_joints: each robot's joint names.
+std::shared_ptr<const Model> sceneModel(const Scene& s, std::vector<std::vector<std::string>>& robot_joints) {
   std::vector<Model> robots;
-  std::vector<std::vector<std::string>> robot_joints;
   for (size_t k = 0; k < s.robots.size(); ++k) {
     const RobotSpec& spec = s.robots[k];
     const std::string at = spec.name.empty() ? "robot" : "robots[" + std::to_string(k) + "]";
@@ -133,57 +131,66 @@ ResolvedScene resolveScene(const Scene& scene) {
     robot_joints.push_back(robots.back().joint_name);
   }
   const bool one_robot = robots.size() == 1 && s.bodies.empty();
-  if (one_robot && s.robots[0].base.p.isZero(0.0) && s.robots[0].base.R == Matrix3::Identity()) {
-    r.model = std::make_shared<const Model>(std::move(robots[0]));  // today's model, bit for bit
-  } else {
-    Model env = emptyEnvironment(s.name, s.source, s.gravity);
-    for (size_t k = 0; k < robots.size(); ++k) {
-      const RobotSpec& spec = s.robots[k];
-      appendTree(env, robots[k], spec.name, spec.name.empty() ? "" : spec.name + "/",
-                 spec.floating_base ? SE3::Identity() : spec.base, false);
-    }
-    for (size_t k = 0; k < s.bodies.size(); ++k)
-      appendTree(env, freeBodyModel(s, s.bodies[k], "bodies[" + std::to_string(k) + "]"), s.bodies[k].name, "",
-                 SE3::Identity(), true);
-    // Names are how everything else finds a link: each one once.
-    std::set<std::string> seen;
-    for (const Frame& f : env.frames)
-      if (!seen.insert(f.name).second)
-        throw SceneError(s.source + ": two links are named '" + f.name +
-                         "' (a free body named as a robot's link?): give one another name");
-    r.model = std::make_shared<const Model>(std::move(env));
+  if (one_robot && s.robots[0].base.p.isZero(0.0) && s.robots[0].base.R == Matrix3::Identity())
+    return std::make_shared<const Model>(std::move(robots[0]));
+  Model env = emptyEnvironment(s.name, s.source, s.gravity);
+  for (size_t k = 0; k < robots.size(); ++k) {
+    const RobotSpec& spec = s.robots[k];
+    appendTree(env, robots[k], spec.name, spec.name.empty() ? "" : spec.name + "/",
+               spec.floating_base ? SE3::Identity() : spec.base, false);
   }
-  const Model& m = *r.model;
-  for (const Obstacle& o : s.obstacles)
-    if (o.shape.kind == CollisionShape::Kind::Mesh) {
-      Obstacle& mine = r.scene.obstacles[static_cast<size_t>(&o - s.obstacles.data())];
-      try {
-        attachSceneMesh(s, o.name, mine.shape);
-      } catch (const ModelError& e) {
-        throw SceneError(s.source + ": obstacles[] '" + o.name + "': " + e.what());
-      }
+  for (size_t k = 0; k < s.bodies.size(); ++k)
+    appendTree(env, freeBodyModel(s, s.bodies[k], "bodies[" + std::to_string(k) + "]"), s.bodies[k].name, "",
+               SE3::Identity(), true);
+  // Names are how everything else finds a link: each one once.
+  std::set<std::string> seen;
+  for (const Frame& f : env.frames)
+    if (!seen.insert(f.name).second)
+      throw SceneError(s.source + ": two links are named '" + f.name +
+                       "' (a free body named as a robot's link?): give one another name");
+  return std::make_shared<const Model>(std::move(env));
+}
+
+// The mesh obstacles' meshes, loaded and attached to the scene's own copy.
+void attachObstacleMeshes(ResolvedScene& r) {
+  const Scene& s = r.scene;
+  for (size_t k = 0; k < s.obstacles.size(); ++k) {
+    const Obstacle& o = s.obstacles[k];
+    if (o.shape.kind != CollisionShape::Kind::Mesh) continue;
+    try {
+      attachSceneMesh(s, o.name, r.scene.obstacles[k].shape);
+    } catch (const ModelError& e) {
+      throw SceneError(s.source + ": obstacles[] '" + o.name + "': " + e.what());
     }
+  }
+}
+
+// What the scene does that a user may not expect: mimic joints taken as independent, links the tip
+// passes through.
+void warn(ResolvedScene& r) {
+  const Scene& s = r.scene;
+  const Model& m = *r.model;
   for (size_t i = 0; i < m.joint_mimic.size(); ++i)
     if (!m.joint_mimic[i].empty())
       r.warnings.push_back(m.source + ": joint '" + m.joint_name[i] + "' mimics '" + m.joint_mimic[i] +
                            "': treated as an independent coordinate");
-  if (s.push.enabled) {
-    // A link the tip passes through silently is the worst kind of no-op: say which.
-    for (const Frame& f : m.frames) {
-      if (f.body < 0 || m.body_name[static_cast<size_t>(f.body)] != f.name) continue;  // frames on a body: its own
-      bool touchable = false;
-      for (const CollisionShape& c : f.collisions) touchable |= c.kind != CollisionShape::Kind::Mesh || c.field;
-      if (!touchable)
-        r.warnings.push_back(s.source + ": push is on, but link '" + f.name +
-                             "' has no collision geometry the tip can touch: it passes through");
-    }
+  if (!s.push.enabled) return;
+  // A link the tip passes through silently is the worst kind of no-op: say which.
+  for (const Frame& f : m.frames) {
+    if (f.body < 0 || m.body_name[static_cast<size_t>(f.body)] != f.name) continue;  // frames on a body: its own
+    bool touchable = false;
+    for (const CollisionShape& c : f.collisions) touchable |= c.kind != CollisionShape::Kind::Mesh || c.field;
+    if (!touchable)
+      r.warnings.push_back(s.source + ": push is on, but link '" + f.name +
+                           "' has no collision geometry the tip can touch: it passes through");
   }
-  // The initial state, the gains and the materials, part by part.
-  r.q0 = neutralConfiguration(m);
-  r.v0 = VectorX::Zero(m.nv);
-  r.kp = VectorX::Zero(m.nv);
-  r.kd = VectorX::Zero(m.nv);
-  r.part_material.assign(m.parts.size(), 0);
+}
+
+// Each robot's initial state, gains and material, checked against its part of the model; its
+// trajectory's joints against its model's.
+void resolveRobots(ResolvedScene& r, const std::vector<std::vector<std::string>>& robot_joints) {
+  const Scene& s = r.scene;
+  const Model& m = *r.model;
   for (size_t k = 0; k < s.robots.size(); ++k) {
     const RobotSpec& spec = s.robots[k];
     const ModelPart& part = m.parts[k];
@@ -215,6 +222,12 @@ ResolvedScene resolveScene(const Scene& scene) {
       throw SceneError(spec.trajectory.file + ": joints [" + list(columns) + "] are not the model's [" +
                        list(robot_joints[k]) + "] (" + spec.model_path + ")");
   }
+}
+
+// Each free body's pose, twist and material.
+void resolveBodies(ResolvedScene& r) {
+  const Scene& s = r.scene;
+  const Model& m = *r.model;
   for (size_t k = 0; k < s.bodies.size(); ++k) {
     const FreeBodySpec& body = s.bodies[k];
     const ModelPart& part = m.parts[s.robots.size() + k];
@@ -224,16 +237,46 @@ ResolvedScene resolveScene(const Scene& scene) {
     r.v0.segment<3>(part.dof_begin + 3) = body.pose.R.transpose() * body.angular_velocity;
     r.part_material[s.robots.size() + k] = r.materialIndex(body.material);
   }
-  normalizeConfiguration(m, r.q0);
-  if (s.pull.enabled) {
-    std::string link = s.pull.link;
-    if (link.empty()) {
-      const ModelPart& first = m.parts.front();
-      link = m.frames[static_cast<size_t>(first.frame_end - 1)].name;
-    }
-    r.pull_frame = m.frameIndex(link);
-    if (r.pull_frame < 0) throw SceneError(s.source + ": interaction.pull.link: unknown link '" + link + "'");
+}
+
+// The pull's link (default: the first robot's last link) as a frame.
+void resolvePull(ResolvedScene& r) {
+  const Scene& s = r.scene;
+  const Model& m = *r.model;
+  if (!s.pull.enabled) return;
+  std::string link = s.pull.link;
+  if (link.empty()) {
+    const ModelPart& first = m.parts.front();
+    link = m.frames[static_cast<size_t>(first.frame_end - 1)].name;
   }
+  r.pull_frame = m.frameIndex(link);
+  if (r.pull_frame < 0) throw SceneError(s.source + ": interaction.pull.link: unknown link '" + link + "'");
+}
+
+}  // namespace
+
+ResolvedScene resolveScene(const Scene& scene) {
+  ResolvedScene r;
+  r.scene = scene;
+  const Scene& s = r.scene;
+  r.material_names.push_back("default");
+  for (const auto& [name, m] : s.materials)
+    if (name != "default") r.material_names.push_back(name);
+  std::vector<std::vector<std::string>> robot_joints;
+  r.model = sceneModel(s, robot_joints);
+  const Model& m = *r.model;
+  attachObstacleMeshes(r);
+  warn(r);
+  // The initial state, the gains and the materials, part by part.
+  r.q0 = neutralConfiguration(m);
+  r.v0 = VectorX::Zero(m.nv);
+  r.kp = VectorX::Zero(m.nv);
+  r.kd = VectorX::Zero(m.nv);
+  r.part_material.assign(m.parts.size(), 0);
+  resolveRobots(r, robot_joints);
+  resolveBodies(r);
+  normalizeConfiguration(m, r.q0);
+  resolvePull(r);
   if (s.integrator == IntegratorKind::Rk4 && s.hasContact())
     throw SceneError(s.source + ": simulation.integrator: rk4 cannot take contact (an impulse per step): use "
                      "linearly_implicit or semi_implicit_euler");
