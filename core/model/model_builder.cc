@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -94,79 +93,86 @@ const char* jointTypeName(JointType t) {
   return "?";
 }
 
-Model buildModel(const RobotDescription& d, const BuildOptions& options, std::vector<std::string>* warnings) {
-  if (d.links.empty()) fail(d, "no links");
-  if (!options.gravity.allFinite()) fail(d, "gravity is not finite");
+namespace {
 
+// The description's links and joints, checked and indexed: the tree they form and its one root.
+struct TreeIndex {
   std::map<std::string, size_t> link_of;
+  std::map<std::string, std::vector<size_t>> child_joints;  // parent link -> joints, in description order
+  std::string root;
+};
+
+TreeIndex indexTree(const RobotDescription& d, std::vector<std::string>* warnings) {
+  TreeIndex t;
   for (size_t i = 0; i < d.links.size(); ++i) {
     const auto& l = d.links[i];
     if (l.name.empty()) fail(d, "a link has no name");
-    if (!link_of.emplace(l.name, i).second) fail(d, "duplicate link name '" + l.name + "'");
+    if (!t.link_of.emplace(l.name, i).second) fail(d, "duplicate link name '" + l.name + "'");
     validateLink(d, l, warnings);
   }
   std::set<std::string> joint_names;
-  std::map<std::string, size_t> parent_joint_of;           // child link -> joint
-  std::map<std::string, std::vector<size_t>> child_joints;  // parent link -> joints, in description order
+  std::map<std::string, size_t> parent_joint_of;  // child link -> joint
   for (size_t k = 0; k < d.joints.size(); ++k) {
     const auto& j = d.joints[k];
     if (j.name.empty()) fail(d, "a joint has no name");
     if (!joint_names.insert(j.name).second) fail(d, "duplicate joint name '" + j.name + "'");
     validateJoint(d, j);
-    if (!link_of.count(j.parent)) fail(d, "joint '" + j.name + "': unknown parent link '" + j.parent + "'");
-    if (!link_of.count(j.child)) fail(d, "joint '" + j.name + "': unknown child link '" + j.child + "'");
+    if (!t.link_of.count(j.parent)) fail(d, "joint '" + j.name + "': unknown parent link '" + j.parent + "'");
+    if (!t.link_of.count(j.child)) fail(d, "joint '" + j.name + "': unknown child link '" + j.child + "'");
     auto [it, fresh] = parent_joint_of.emplace(j.child, k);
     if (!fresh)
       fail(d, "link '" + j.child + "' has two parent joints ('" + d.joints[it->second].name + "' and '" + j.name + "')");
-    child_joints[j.parent].push_back(k);
+    t.child_joints[j.parent].push_back(k);
   }
   std::vector<std::string> roots;
   for (const auto& l : d.links)
     if (!parent_joint_of.count(l.name)) roots.push_back(l.name);
   if (roots.empty()) fail(d, "no root link: the joints form a cycle");
   if (roots.size() > 1) fail(d, "more than one root link ('" + roots[0] + "' and '" + roots[1] + "'): the links are not one tree");
+  t.root = roots[0];
+  return t;
+}
 
-  Model m;
-  m.name = d.name;
-  m.source = d.source;
-  m.floating_base = options.floating_base;
-  m.gravity = options.gravity;
-  m.root_link = roots[0];
+// A body on its joint, below `parent` (-1: the world). \return its index.
+int addBody(Model& m, const std::string& joint, const std::string& link, JointType type, int parent, const SE3& X_tree,
+            const Vector3& axis) {
+  m.joint_name.push_back(joint);
+  m.body_name.push_back(link);
+  m.joint_type.push_back(type);
+  m.joint_continuous.push_back(false);
+  m.parent.push_back(parent);
+  m.X_tree.push_back(X_tree);
+  m.axis.push_back(axis);
+  int aligned = -1;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(axis[k]) - 1.0) < 1e-15 && axis.squaredNorm() < 1.0 + 1e-15) aligned = k;
+  m.axis_aligned.push_back(aligned);
+  m.inertia.push_back(SpatialInertia::Zero());
+  m.children.emplace_back();
+  if (parent >= 0) m.children[static_cast<size_t>(parent)].push_back(m.nb);
+  const int nv = type == JointType::Floating ? 6 : 1;
+  m.q_index.push_back(m.nq);
+  m.v_index.push_back(m.nv);
+  m.joint_nv.push_back(nv);
+  m.nq += type == JointType::Floating ? 7 : 1;
+  m.nv += nv;
+  return m.nb++;
+}
 
-  auto addBody = [&](const std::string& joint, const std::string& link, JointType type, int parent,
-                     const SE3& X_tree, const Vector3& axis) {
-    m.joint_name.push_back(joint);
-    m.body_name.push_back(link);
-    m.joint_type.push_back(type);
-    m.joint_continuous.push_back(false);
-    m.parent.push_back(parent);
-    m.X_tree.push_back(X_tree);
-    m.axis.push_back(axis);
-    int aligned = -1;
-    for (int k = 0; k < 3; ++k)
-      if (std::abs(std::abs(axis[k]) - 1.0) < 1e-15 && axis.squaredNorm() < 1.0 + 1e-15) aligned = k;
-    m.axis_aligned.push_back(aligned);
-    m.inertia.push_back(SpatialInertia::Zero());
-    m.children.emplace_back();
-    if (parent >= 0) m.children[static_cast<size_t>(parent)].push_back(m.nb);
-    const int nv = type == JointType::Floating ? 6 : 1;
-    m.q_index.push_back(m.nq);
-    m.v_index.push_back(m.nv);
-    m.joint_nv.push_back(nv);
-    m.nq += type == JointType::Floating ? 7 : 1;
-    m.nv += nv;
-    return m.nb++;
-  };
-
-  // Depth-first walk: each link lands on a body with a placement in it. With
-  // one parent per link and a single root, the walk cannot loop; links it does
-  // not reach sit on a cycle.
-  std::vector<const JointDescription*> joint_of_body;
+// Depth-first walk from the root: each link lands on a body with a placement in it, a moving joint
+// starts a body, a fixed one keeps its child on its parent's. With one parent per link and a single
+// root, the walk cannot loop; links it does not reach sit on a cycle.
+struct LinkWalk {
+  const RobotDescription& d;
+  const TreeIndex& tree;
+  std::vector<std::string>* warnings;
+  Model& m;
+  std::vector<const JointDescription*> joint_of_body;  // per body (null: the floating root)
   std::set<std::string> visited;
-  std::function<void(const std::string&, int, const SE3&)> visit = [&](const std::string& name, int body,
-                                                                       const SE3& placement) {
+
+  void visit(const std::string& name, int body, const SE3& placement) {
     visited.insert(name);
-    const LinkDescription& link = d.links[link_of[name]];
+    const LinkDescription& link = d.links[tree.link_of.at(name)];
     m.frames.push_back(Frame{link.name, body, placement, link.collisions, link.visuals});
     const bool has_inertia = link.mass > 0.0 || link.inertia.cwiseAbs().maxCoeff() > 0.0;
     if (body >= 0 && has_inertia) {
@@ -175,8 +181,8 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
     } else if (body < 0 && has_inertia && warnings) {
       warnings->push_back(where(d) + ": note: link '" + link.name + "' is fixed to the world; its mass is ignored");
     }
-    auto it = child_joints.find(name);
-    if (it == child_joints.end()) return;
+    auto it = tree.child_joints.find(name);
+    if (it == tree.child_joints.end()) return;
     for (size_t k : it->second) {
       const JointDescription& j = d.joints[k];
       const SE3 X = placement * j.origin;
@@ -185,23 +191,17 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
         continue;
       }
       const JointType type = j.type == JointDescription::Type::Prismatic ? JointType::Prismatic : JointType::Revolute;
-      const int b = addBody(j.name, j.child, type, body, X, j.axis.normalized());
+      const int b = addBody(m, j.name, j.child, type, body, X, j.axis.normalized());
       joint_of_body.resize(static_cast<size_t>(b + 1), nullptr);
       joint_of_body[static_cast<size_t>(b)] = &j;
       m.joint_continuous[static_cast<size_t>(b)] = j.type == JointDescription::Type::Continuous;
       visit(j.child, b, SE3::Identity());
     }
-  };
-  if (options.floating_base) {
-    addBody("root_joint", m.root_link, JointType::Floating, -1, SE3::Identity(), Vector3::Zero());
-    joint_of_body.push_back(nullptr);
   }
-  visit(m.root_link, options.floating_base ? 0 : -1, SE3::Identity());
-  for (const auto& l : d.links)
-    if (!visited.count(l.name))
-      fail(d, "link '" + l.name + "' is not reachable from the root '" + m.root_link + "': the joints form a cycle");
+};
 
-  // Per-dof arrays.
+// Per-dof arrays: each dof's parent dof, its joint's damping, friction and limits.
+void fillDofs(Model& m, const std::vector<const JointDescription*>& joint_of_body) {
   const double inf = std::numeric_limits<double>::infinity();
   m.dof_parent.assign(static_cast<size_t>(m.nv), -1);
   m.damping.assign(static_cast<size_t>(m.nv), 0.0);
@@ -225,7 +225,6 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
     m.effort_limit[v0] = j->effort;
     m.velocity_limit[v0] = j->velocity;
   }
-
   m.dof_run_start.assign(static_cast<size_t>(m.nv), 0);
   for (int k = 0; k < m.nv; ++k)
     m.dof_run_start[k] = (k > 0 && m.dof_parent[k] == k - 1) ? m.dof_run_start[k - 1] : k;
@@ -234,12 +233,15 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
   for (int k = m.nv - 1; k >= 0; --k)  // children come after their parent: leaves first
     if (m.dof_parent[k] >= 0)
       m.dof_subtree_end[m.dof_parent[k]] = std::max(m.dof_subtree_end[m.dof_parent[k]], m.dof_subtree_end[k]);
+}
 
-  // A joint whose subtree carries no inertia along its axis makes H singular.
+// A joint whose subtree carries no inertia along its axis makes H singular: said so.
+void warnSingularJoints(const RobotDescription& d, const Model& m, std::vector<std::string>* warnings) {
+  if (!warnings) return;
   std::vector<SpatialInertia> Ic(m.inertia);
   for (int i = m.nb - 1; i > 0; --i)
     if (m.parent[i] >= 0) Ic[m.parent[i]] += Ic[i].transformedBy(m.X_tree[i]);
-  for (int i = 0; i < m.nb && warnings; ++i) {
+  for (int i = 0; i < m.nb; ++i) {
     double along = 0.0;
     if (m.joint_type[i] == JointType::Revolute) along = m.axis[i].dot(Ic[i].Io * m.axis[i]);
     if (m.joint_type[i] == JointType::Prismatic) along = Ic[i].m;
@@ -248,8 +250,10 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
       warnings->push_back(where(d) + ": warning: joint '" + m.joint_name[i] +
                           "' moves no mass or inertia along its axis: H is singular, forward dynamics will fail");
   }
-  m.parts.push_back(ModelPart{"", false, 0, m.nb, 0, m.nv, 0, m.nq, 0, static_cast<int>(m.frames.size())});
-  // Mimic joints (grippers' fingers): kept as independent coordinates, said so.
+}
+
+// Mimic joints (grippers' fingers): kept as independent coordinates, said so.
+void recordMimics(const RobotDescription& d, Model& m, std::vector<std::string>* warnings) {
   m.joint_mimic.assign(static_cast<size_t>(m.nb), "");
   for (const JointDescription& j : d.joints) {
     if (j.mimic.empty()) continue;
@@ -262,6 +266,33 @@ Model buildModel(const RobotDescription& d, const BuildOptions& options, std::ve
       warnings->push_back(w.str());
     }
   }
+}
+
+}  // namespace
+
+Model buildModel(const RobotDescription& d, const BuildOptions& options, std::vector<std::string>* warnings) {
+  if (d.links.empty()) fail(d, "no links");
+  if (!options.gravity.allFinite()) fail(d, "gravity is not finite");
+  const TreeIndex tree = indexTree(d, warnings);
+  Model m;
+  m.name = d.name;
+  m.source = d.source;
+  m.floating_base = options.floating_base;
+  m.gravity = options.gravity;
+  m.root_link = tree.root;
+  LinkWalk walk{d, tree, warnings, m, {}, {}};
+  if (options.floating_base) {
+    addBody(m, "root_joint", m.root_link, JointType::Floating, -1, SE3::Identity(), Vector3::Zero());
+    walk.joint_of_body.push_back(nullptr);
+  }
+  walk.visit(m.root_link, options.floating_base ? 0 : -1, SE3::Identity());
+  for (const auto& l : d.links)
+    if (!walk.visited.count(l.name))
+      fail(d, "link '" + l.name + "' is not reachable from the root '" + m.root_link + "': the joints form a cycle");
+  fillDofs(m, walk.joint_of_body);
+  warnSingularJoints(d, m, warnings);
+  m.parts.push_back(ModelPart{"", false, 0, m.nb, 0, m.nv, 0, m.nq, 0, static_cast<int>(m.frames.size())});
+  recordMimics(d, m, warnings);
   return m;
 }
 
