@@ -74,7 +74,7 @@ namespace {
 constexpr double kSameSide = 0.5;
 }  // namespace
 
-void CoupledDynamics::couple(const Coupling& c, const VectorX& v, CouplingForce& out) {
+void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, CouplingForce& out) {
   out = CouplingForce{};
   if (c.mode == InteractionMode::Push) {
     if (!c.push_shape || c.contact_frame < 0) return;
@@ -174,7 +174,7 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   out.ncouplings = in.ncouplings;
   for (int h = 0; h < in.ncouplings; ++h) {  // the hands' forces add up on their links
     CouplingForce& u = out.couplings[static_cast<size_t>(h)];
-    couple(in.couplings[h], v, u);
+    couplingForce(in.couplings[h], v, u);
     if (!u.coupled) continue;
     addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot, u.torque}, fext_);
     any = true;

@@ -152,10 +152,10 @@ class CoupledDynamics {
 
   // The evaluator the integrators take (integrators.h): these dynamics with
   // one step's inputs bound. Its first evaluation is the step's start state.
-  class Bound {
+  class StepEvaluator {
    public:
     using Evaluation = CoupledEvaluation;
-    Bound(CoupledDynamics& d, const CoupledInputs& in) : d_(d), in_(in) {}
+    StepEvaluator(CoupledDynamics& d, const CoupledInputs& in) : d_(d), in_(in) {}
     Evaluation makeEvaluation() const { return d_.makeEvaluation(); }
     void evaluate(const VectorX& q, const VectorX& v, Evaluation& out) {
       d_.evaluate(in_, q, v, out, !started_);
@@ -176,10 +176,11 @@ class CoupledDynamics {
     const CoupledInputs& in_;
     bool started_ = false;
   };
-  Bound bind(const CoupledInputs& in) { return Bound(*this, in); }
+  StepEvaluator bind(const CoupledInputs& in) { return StepEvaluator(*this, in); }
 
  private:
-  void couple(const Coupling& c, const VectorX& v, CouplingForce& out);
+  // One hand's force at (q, v) as placed (push: eq. 3; pull: eq. 4, with its rotational half).
+  void couplingForce(const Coupling& c, const VectorX& v, CouplingForce& out);
   // The hold's damping -c H v on F (per held robot's block, or on all), and -c v on qdd when given.
   void subtractHoldDamping(const CoupledInputs& in, const VectorX& v, VectorX& F, VectorX* qdd) const;
 

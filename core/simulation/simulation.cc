@@ -17,9 +17,6 @@ namespace {
 constexpr double kRecordPeriod = 0.01;          // s
 constexpr int kRecordCapacity = 60000;          // 10 minutes at 100 Hz
 constexpr double kDivergedSpeed = 1e4;          // rad/s or m/s: no robot moves like this
-constexpr int kResumeGapSteps = 20;             // steps without any input: a gap
-constexpr int64_t kResumeSeqJump = 100;         // a client's seq jumping this far: a gap (jitter stays below)
-constexpr double kResumeRamp = 0.1;             // s to bring the coupling back in after a gap
 }  // namespace
 
 namespace {
@@ -121,7 +118,7 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   interacting_ = interacting;
   diverged_ = false;
   // A re-based copy does not know the server's gaps; its hands' proxies go on from where they were.
-  for (HandTrack& h : hands_) h.restart(h.client);
+  for (HandTrack& h : hands_) h.restart(h.client());
   std::fill(robot_held_.begin(), robot_held_.end(), interacting ? 1 : 0);
   stall_noted_ = false;
   dynamics_->resetContacts();
@@ -156,28 +153,27 @@ void Simulation::setRotationalGains(double k_rot, double b_rot) {
 }
 
 // The client's track, or a new one in place of the hand quiet for longest.
-Simulation::HandTrack& Simulation::track(int32_t client) {
+HandTrack& Simulation::track(int32_t client) {
   for (HandTrack& h : hands_)
-    if (h.client == client) return h;
+    if (h.client() == client) return h;
   HandTrack* pick = &hands_[0];
   for (HandTrack& h : hands_) {
-    if (h.client < 0) {
+    if (h.client() < 0) {
       pick = &h;
       break;
     }
-    if (h.steps_without_input > pick->steps_without_input) pick = &h;
+    if (h.stepsWithoutInput() > pick->stepsWithoutInput()) pick = &h;
   }
   pick->restart(client);
   pick->proxy.release();
-  pick->stall = stall_noted_;
+  if (stall_noted_) pick->noteStall();
   return *pick;
 }
 
-// The step's inputs: one coupling per hand (from the validated haptic inputs,
-// in client-id order) and the controller torque; a quintic resume trajectory
-// when the last interaction ends.
-void Simulation::computeControl(const HandInputs& inputs) {
-  outcome_ = StepOutcome{};
+// The step's inputs: one coupling per hand (from the validated haptic inputs, in client-id order),
+// the holds (a quintic resume trajectory when the last interaction on a robot ends) and the
+// controllers' commands.
+bool Simulation::coupleHands(const HandInputs& inputs) {
   // Client-id order (a handful: insertion sort, no allocation); equal ids keep their order.
   const int n = std::min(inputs.n, kMaxHands);
   for (int i = 0; i < n; ++i) {
@@ -189,10 +185,7 @@ void Simulation::computeControl(const HandInputs& inputs) {
     }
     order_[static_cast<size_t>(j)] = i;
   }
-  for (HandTrack& h : hands_) {  // every hand's ramp runs on whether or not it has an input
-    if (h.scale < 1.0) h.scale = std::min(1.0, h.scale + scene_.dt / kResumeRamp);
-    ++h.steps_without_input;
-  }
+  for (HandTrack& h : hands_) h.tick(scene_.dt);  // every hand's ramp runs on whether or not it has an input
   bool any_user = false;
   bool placed = false;  // link_poses_ at the start state
   ncouplings_ = 0;
@@ -203,20 +196,8 @@ void Simulation::computeControl(const HandInputs& inputs) {
     ho.input_seq = in.seq;
     const bool user = (in.mode == InteractionMode::Push && scene_.push.enabled) ||
                       (in.mode == InteractionMode::Pull && scene_.pull.enabled);
-    // The resume ramp (see simulation.h), per hand: a gap between this client's inputs (not before its
-    // first), steps without any from it, its seq jumping, or a stall of the loop.
     HandTrack& h = track(in.client);
-    const bool gap = h.stall || (h.last_seq >= 0 && (h.steps_without_input > kResumeGapSteps ||
-                                                     in.seq - h.last_seq > kResumeSeqJump));
-    if (user && gap) {
-      h.scale = scene_.dt / kResumeRamp;  // this step is the ramp's first
-      ++resume_ramps_;
-    }
-    // A stall waits for the hand's next input: the first steps after one often have none fresh
-    // (the last arrived before the stop), and the queued inputs that follow run on in seq.
-    h.stall = false;
-    h.last_seq = in.seq;
-    h.steps_without_input = 0;
+    if (h.take(in.seq, user, scene_.dt)) ++resume_ramps_;
     // The hand's proxy follows its tip whatever the mode (free while it pulls), against the start state.
     if (touch_world_) {
       if (!placed) {
@@ -232,7 +213,7 @@ void Simulation::computeControl(const HandInputs& inputs) {
     Coupling& c = couplings_[static_cast<size_t>(ncouplings_++)];
     c = gains_;
     c.mode = in.mode;
-    c.scale = h.scale;
+    c.scale = h.scale();
     c.tip = in.tip_position;
     c.tip_velocity = in.tip_velocity;
     c.tip_radius = in.tip_radius;
@@ -264,6 +245,10 @@ void Simulation::computeControl(const HandInputs& inputs) {
     outcome_.input_seq = outcome_.hands[0].input_seq;
     outcome_.input_client = outcome_.hands[0].client;
   }
+  return any_user;
+}
+
+void Simulation::decideHolds(bool any_user) {
   if (environment_) {
     // A hand holds the robot it acts on alone; the others follow their trajectories. When the last
     // hand on a robot lets go, generation resumes for it from the new state.
@@ -281,21 +266,24 @@ void Simulation::computeControl(const HandInputs& inputs) {
       any_held = any_held || held;
     }
     interacting_ = any_held;
-  } else {
-    if (any_user && !interacting_) interacting_ = true;
-    if (!any_user && interacting_) {
-      // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
-      interacting_ = false;
-      for (auto& c : controllers_)
-        if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
-    }
+    return;
   }
-  // The torque is inverse dynamics at the start state, which the step's first evaluation computes
-  // in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics, set in step): it adds
-  // the joint damping's D v and leaves floating joints unactuated. While a hand acts, it is the
-  // hold's gravity and Coriolis compensation (the dynamics add the hold damping: the users' forces
-  // move the robot); otherwise the computed torque of qdd_cmd_. A PD robot's torque is the dynamics'
-  // (CoupledInputs::pd), a passive robot's none.
+  if (any_user && !interacting_) interacting_ = true;
+  if (!any_user && interacting_) {
+    // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
+    interacting_ = false;
+    for (auto& c : controllers_)
+      if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+  }
+}
+
+// The torque is inverse dynamics at the start state, which the step's first evaluation computes
+// in the pass that gives the plant's bias (CoupledInputs::inverse_dynamics, set in step): it adds
+// the joint damping's D v and leaves floating joints unactuated. While a hand acts, it is the
+// hold's gravity and Coriolis compensation (the dynamics add the hold damping: the users' forces
+// move the robot); otherwise the computed torque of qdd_cmd_. A PD robot's torque is the dynamics'
+// (CoupledInputs::pd), a passive robot's none.
+void Simulation::commandRobots() {
   inverse_dynamics_ = false;
   hold_rate_ = 0.0;
   hold_.clear();
@@ -324,7 +312,10 @@ bool Simulation::step(const InteractionInput* input) {
 
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
-  computeControl(hands);
+  // Controls and hands: the stages before the dynamics.
+  outcome_ = StepOutcome{};
+  decideHolds(coupleHands(hands));
+  commandRobots();
   // One robot: its hold is b(q, v) (no commanded acceleration). Several: a held robot's share of
   // qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
   CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
@@ -334,7 +325,7 @@ bool Simulation::step(const HandInputs& hands) {
     if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
   }
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
-  CoupledDynamics::Bound f = dynamics_->bind(inputs);
+  CoupledDynamics::StepEvaluator f = dynamics_->bind(inputs);
   const bool implicit = scene_.integrator == IntegratorKind::LinearlyImplicit;  // applied_acceleration_ implies it
   if (implicit) {
     v_start_ = v_;
@@ -427,7 +418,7 @@ void Simulation::record(bool force) {
 const Proxy* Simulation::proxyOf(int32_t client) const {
   if (!touch_world_) return nullptr;
   for (const HandTrack& h : hands_)
-    if (h.client == client) return &h.proxy;
+    if (h.client() == client) return &h.proxy;
   return nullptr;
 }
 

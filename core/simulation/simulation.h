@@ -36,6 +36,7 @@
 #include "core/interaction/proxy.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
+#include "core/simulation/hand_track.h"
 #include "core/simulation/robot_controller.h"
 #include "core/trajectory/piecewise_polynomial.h"
 
@@ -178,7 +179,7 @@ class Simulation {
   // however many steps later, it starts a resume ramp. The server notes it from its clock, a re-simulation from the states' utime, with this one threshold.
   void noteStall() {
     stall_noted_ = true;
-    for (auto& h : hands_) h.stall = true;
+    for (auto& h : hands_) h.noteStall();
   }
   static constexpr int64_t kStallGapUs = 20000;
 
@@ -194,25 +195,13 @@ class Simulation {
   std::vector<std::string> activeComponents() const;
 
  private:
-  // The resume-ramp view of one client's inputs (see the rule above), one per hand.
-  struct HandTrack {
-    int32_t client = -1;
-    int64_t last_seq = -1;
-    int steps_without_input = 0;
-    bool stall = false;
-    double scale = 1.0;
-    Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())
-    // A new hand, or a re-based copy that does not know the server's gaps (the proxy is left as it is).
-    void restart(int32_t id) {
-      client = id;
-      last_seq = -1;
-      steps_without_input = 0;
-      stall = false;
-      scale = 1.0;
-    }
-  };
   HandTrack& track(int32_t client);
-  void computeControl(const HandInputs& inputs);
+  // The control stage of a step, in order (step() calls them): each hand's input into its coupling
+  // (in client-id order; \return whether any pushes or pulls), which robot each hand holds (and a
+  // replan for one let go), and each robot's command (the hold's, or its trajectory's or PD's).
+  bool coupleHands(const HandInputs& inputs);
+  void decideHolds(bool any_user);
+  void commandRobots();
   void record(bool force);
   bool checkFinite();
 
@@ -223,7 +212,7 @@ class Simulation {
   std::unique_ptr<ContactModel> contact_model_;  // null without any pair that can touch
   std::unique_ptr<CoupledDynamics> dynamics_;
   std::unique_ptr<IntegratorScratch<CoupledEvaluation>> scratch_;
-  // The step's inputs, set by computeControl and passed to the dynamics.
+  // The step's inputs, set by its control stage and passed to the dynamics.
   std::array<Coupling, kMaxHands> couplings_;
   int ncouplings_ = 0;
   std::array<int, kMaxHands> order_{};  // the step's inputs by client id
@@ -233,7 +222,7 @@ class Simulation {
   std::vector<char> robot_held_;            // per robot: a hand acts on it (an environment's holds)
   HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;
-  bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (computeControl)
+  bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (commandRobots)
   std::vector<std::unique_ptr<RobotController>> controllers_;  // one per robot, in scene order
   bool environment_ = false;            // several parts: per-robot holds and commands (DofRange lists)
   std::vector<DofRange> hold_, uncommanded_;

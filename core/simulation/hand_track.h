@@ -1,0 +1,65 @@
+// One hand as the step sees it across steps: which client it is, the resume
+// ramp that brings its coupling back in after a gap (simulation.h has the
+// rule), and its tip's proxy against the exact state. The simulation keeps
+// kMaxHands of them and gives a new client the one quiet for longest.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "core/interaction/proxy.h"
+
+namespace igms {
+
+class HandTrack {
+ public:
+  static constexpr int kResumeGapSteps = 20;      // steps without any input: a gap
+  static constexpr int64_t kResumeSeqJump = 100;  // a client's seq jumping this far: a gap (jitter stays below)
+  static constexpr double kResumeRamp = 0.1;      // s to bring the coupling back in after a gap
+
+  // A new hand, or a re-based copy that does not know the server's gaps (the proxy is left as it is).
+  void restart(int32_t id) {
+    client_ = id;
+    last_seq_ = -1;
+    steps_without_input_ = 0;
+    stall_ = false;
+    scale_ = 1.0;
+  }
+  // One step passes, with or without an input from this hand: its ramp runs on.
+  void tick(double dt) {
+    if (scale_ < 1.0) scale_ = std::min(1.0, scale_ + dt / kResumeRamp);
+    ++steps_without_input_;
+  }
+  // This hand's input `seq` is taken; `interacts`: it pushes or pulls. After a gap (steps without
+  // its input, its seq jumping, or a stall of the loop; not before its first input) an interacting
+  // input restarts the ramp, this step its first. \return whether it did.
+  bool take(int64_t seq, bool interacts, double dt) {
+    const bool gap = stall_ || (last_seq_ >= 0 && (steps_without_input_ > kResumeGapSteps ||
+                                                   seq - last_seq_ > kResumeSeqJump));
+    const bool ramp = interacts && gap;
+    if (ramp) scale_ = dt / kResumeRamp;
+    // A stall waits for the hand's next input: the first steps after one often have none fresh
+    // (the last arrived before the stop), and the queued inputs that follow run on in seq.
+    stall_ = false;
+    last_seq_ = seq;
+    steps_without_input_ = 0;
+    return ramp;
+  }
+  // The loop stopped: the next interacting input ramps in.
+  void noteStall() { stall_ = true; }
+
+  int32_t client() const { return client_; }
+  int stepsWithoutInput() const { return steps_without_input_; }
+  double scale() const { return scale_; }  // the coupling's share this step, (0, 1]
+
+  Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())
+
+ private:
+  int32_t client_ = -1;
+  int64_t last_seq_ = -1;
+  int steps_without_input_ = 0;
+  bool stall_ = false;
+  double scale_ = 1.0;
+};
+
+}  // namespace igms
