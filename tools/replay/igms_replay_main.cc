@@ -281,170 +281,208 @@ bool writeLoggedModel(const std::string& dir, const std::string& file, const Mes
   }
 }
 
+// `igms-replay export`: the log's channels as CSV files in one folder, one writer per channel, and what
+// only a re-simulation has (environment.csv, obstacles.csv).
+class CsvExport {
+ public:
+  explicit CsvExport(const std::string& dir)
+      : dir_(dir),
+        states_(dir + "/states.csv"),
+        inputs_(dir + "/inputs.csv"),
+        client_(dir + "/client_status.csv"),
+        server_(dir + "/server_status.csv"),
+        hands_(dir + "/hands.csv") {
+    for (std::ofstream* f : {&states_, &inputs_, &client_, &server_, &hands_}) igms::cli::roundTripDigits(*f);
+    // Every file starts with its header (states.csv's depends on the robot: written with its first row).
+    inputs_ << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link,client\n";
+    client_ << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
+               "rendered_fx,rendered_fy,rendered_fz,client,proxy_substep_limited\n";
+    // One row per hand per state: every input a step consumed and the force that hand applied.
+    hands_ << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
+    server_ << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
+               "first_collision_time,min_obstacle_distance,commands_received,commands_rejected,contact_solves,"
+               "contact_unconverged,contact_candidates_dropped,proxy_substep_limited\n";
+  }
+  bool good() const { return static_cast<bool>(states_); }
+
+  void events(const std::vector<igms::log::Event>& events) {
+    for (const auto& e : events) {  // the state's link order, from any server status in the log
+      igms::server_status_t st;
+      if (e.channel == igms::channels::kServerStatus && igms::safeDecode(e.data.data(), e.data.size(), &st)) {
+        links_ = st.link_names;
+        break;
+      }
+    }
+    for (const auto& e : events) {
+      const auto* d = e.data.data();
+      const int n = static_cast<int>(e.data.size());
+      if (e.channel == igms::channels::kSessionInfo) sessionInfo(d, n);
+      else if (e.channel == igms::channels::kSessionFiles && !wrote_models_) sessionFiles(d, n);
+      else if (e.channel == igms::channels::kServerStatus) serverStatus(d, n);
+      else if (e.channel == igms::channels::kRobotState) robotState(d, n);
+      else if (e.channel == igms::channels::kHapticInput) hapticInput(d, n);
+      else if (e.channel == igms::channels::kClientStatus) clientStatus(d, n);
+    }
+  }
+
+  // An environment (free bodies, several robots, contact): environment.csv from the re-simulation
+  // (bit-identical to the recorded run): every coordinate by name (each robot's q, each free body's
+  // pose) and the step's contact count and deepest overlap, which the states do not carry. And
+  // obstacles.csv: the robots' distance to each watched (not solid) obstacle on its own (the states
+  // carry only the nearest), so that a summary can leave out the obstacle a line is meant to reach.
+  void resimulated(const igms::Simulation& sim) {
+    const auto& scene_obstacles = sim.scene().obstacles;
+    const bool watched = std::any_of(scene_obstacles.begin(), scene_obstacles.end(),
+                                     [](const igms::Obstacle& o) { return !o.solid; });
+    if (watched) obstacleDistances(sim);
+    if (!sim.hasContacts() && sim.model().parts.size() < 2) return;
+    if (!env_header_) {
+      env_.open(dir_ + "/environment.csv");
+      igms::cli::roundTripDigits(env_);
+      env_ << "t,step";
+      for (const std::string& n : igms::coordinateNames(sim.model())) env_ << "," << n;
+      env_ << ",contacts,max_penetration,robot_body_contacts\n";
+      env_header_ = true;
+    }
+    env_ << sim.time() << "," << sim.steps();
+    for (int k = 0; k < sim.q().size(); ++k) env_ << "," << sim.q()[k];
+    env_ << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "," << robotBodyContacts(sim) << "\n";
+  }
+  bool wroteEnvironment() const { return env_header_; }
+  bool wroteObstacles() const { return obstacles_header_; }
+
+ private:
+  void sessionInfo(const uint8_t* d, int n) {
+    igms::session_info_t s;
+    if (!igms::safeDecode(d, n, &s)) return;
+    std::ofstream(dir_ + "/scene.yaml") << s.scene_text;
+    // The log's copy of the model, next to the scene: an export stands on its own too.
+    std::string model_file = std::filesystem::path(s.model_path).filename().string();
+    if (s.model_size <= 0 || !writeLoggedModel(dir_, model_file, s)) model_file.clear();
+    std::ofstream(dir_ + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
+                                         << "\nmodel_hash: " << s.model_hash << "\nmodel_file: " << model_file
+                                         << "\nbuild: " << s.build_version << "\nclock: " << s.clock << "\n";
+  }
+  // Every robot's model (a scene of several): beside the scene, and listed in models.txt.
+  void sessionFiles(const uint8_t* d, int n) {
+    igms::session_files_t f;
+    if (!igms::safeDecode(d, n, &f)) return;
+    wrote_models_ = true;
+    std::ofstream list(dir_ + "/models.txt");
+    for (const igms::robot_files_t& r : f.robots) {
+      std::string file = std::filesystem::path(r.model_path).filename().string();
+      if (!r.robot.empty() && f.robots.size() > 1) file = r.robot + "_" + file;
+      if (!writeLoggedModel(dir_, file, r)) file.clear();
+      list << (r.robot.empty() ? "-" : r.robot) << " " << file << " " << r.model_hash << " " << r.model_path << "\n";
+    }
+  }
+  void serverStatus(const uint8_t* d, int n) {
+    igms::server_status_t s;
+    if (!igms::safeDecode(d, n, &s)) return;
+    server_ << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
+            << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
+            << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
+            << s.commands_rejected << "," << s.contact_solves << "," << s.contact_unconverged << ","
+            << s.contact_candidates_dropped << "," << s.proxy_substep_limited << "\n";
+  }
+  void statesHeader(const igms::robot_state_t& s) {
+    states_ << "t,seq,input_seq,mode";
+    for (int j = 0; j < s.nq; ++j) states_ << ",q" << j;
+    for (int j = 0; j < s.nv; ++j) states_ << ",v" << j;
+    for (int j = 0; j < s.nv; ++j) states_ << ",qdd" << j;
+    for (int j = 0; j < s.nv; ++j) states_ << ",tau" << j;
+    states_ << ",fx,fy,fz,px,py,pz,min_obstacle_distance,in_collision,step_us,tx,ty,tz,nhands";
+    for (int l = 0; l < s.nlinks; ++l) {
+      const std::string name = l < static_cast<int>(links_.size()) ? links_[l] : "link" + std::to_string(l);
+      states_ << "," << name << ".x," << name << ".y," << name << ".z";
+    }
+    states_ << "\n";
+  }
+  void robotState(const uint8_t* d, int n) {
+    igms::robot_state_t s;
+    if (!igms::safeDecode(d, n, &s)) return;
+    if (!states_header_) {
+      statesHeader(s);
+      states_header_ = true;
+    }
+    states_ << s.sim_time << "," << s.seq << "," << s.input_seq << "," << int{s.mode};
+    for (double x : s.q) states_ << "," << x;
+    for (double x : s.v) states_ << "," << x;
+    for (double x : s.qdd) states_ << "," << x;
+    for (double x : s.tau) states_ << "," << x;
+    for (double x : s.interaction_force) states_ << "," << x;
+    for (double x : s.interaction_point) states_ << "," << x;
+    states_ << "," << s.min_obstacle_distance << "," << int{s.in_collision} << "," << s.step_us;
+    for (double x : s.interaction_torque) states_ << "," << x;
+    states_ << "," << s.nhands;
+    for (size_t h = 0; h < static_cast<size_t>(s.nhands); ++h) {
+      hands_ << s.sim_time << "," << s.seq << "," << s.hand_client[h] << "," << s.hand_input_seq[h] << ","
+             << int{s.hand_mode[h]};
+      for (double x : s.hand_force[h]) hands_ << "," << x;
+      for (double x : s.hand_torque[h]) hands_ << "," << x;
+      for (double x : s.hand_point[h]) hands_ << "," << x;
+      hands_ << "\n";
+    }
+    for (const auto& p : s.link_poses) states_ << "," << p[0] << "," << p[1] << "," << p[2];
+    states_ << "\n";
+  }
+  void hapticInput(const uint8_t* d, int n) {
+    igms::haptic_input_t s;
+    if (!igms::safeDecode(d, n, &s)) return;
+    inputs_ << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
+            << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link << "," << s.client_id << "\n";
+  }
+  void clientStatus(const uint8_t* d, int n) {
+    igms::client_status_t s;
+    if (!igms::safeDecode(d, n, &s)) return;
+    client_ << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
+            << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
+            << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "," << s.client_id
+            << "," << s.proxy_substep_limited << "\n";
+  }
+  void obstacleDistances(const igms::Simulation& sim) {
+    if (!obstacles_header_) {
+      obstacles_.open(dir_ + "/obstacles.csv");
+      igms::cli::roundTripDigits(obstacles_);
+      obstacles_ << "t,step";
+      for (const igms::Obstacle& o : sim.scene().obstacles) {
+        if (o.solid) continue;  // touched through contact, not watched (the states' distance leaves it out too)
+        obstacles_ << "," << o.name;
+        each_obstacle_.push_back(std::make_unique<igms::CollisionWorld>(sim.model(), std::vector<igms::Obstacle>{o}));
+      }
+      obstacles_ << "\n";
+      obstacles_header_ = true;
+      fk_ = std::make_unique<igms::Data>(sim.model());
+    }
+    igms::forwardKinematics(sim.model(), *fk_, sim.q());  // every frame's world pose, in fk_->oMf
+    obstacles_ << sim.time() << "," << sim.steps();
+    for (const auto& world : each_obstacle_) obstacles_ << "," << world->check(fk_->oMf).min_distance;
+    obstacles_ << "\n";
+  }
+
+  std::string dir_;
+  std::ofstream states_, inputs_, client_, server_, hands_, env_, obstacles_;
+  std::vector<std::string> links_;  // the state's link order
+  bool states_header_ = false, wrote_models_ = false, env_header_ = false, obstacles_header_ = false;
+  std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle_;
+  std::unique_ptr<igms::Data> fk_;  // the link poses for the check (the callback's simulation is const)
+};
+
 int exportCsv(const std::string& path, const std::string& dir) {
   const auto c = load(path);
   std::error_code made;
   std::filesystem::create_directories(dir, made);  // out/x when out/ does not exist yet
-  std::ofstream states(dir + "/states.csv"), inputs(dir + "/inputs.csv"), client(dir + "/client_status.csv"),
-      server(dir + "/server_status.csv"), hands(dir + "/hands.csv");
-  if (!states) {
+  CsvExport out(dir);
+  if (!out.good()) {
     std::fprintf(stderr, "igms-replay: cannot write to %s\n", dir.c_str());
     return 2;
   }
-  for (std::ofstream* f : {&states, &inputs, &client, &server, &hands}) igms::cli::roundTripDigits(*f);
-  // Every file starts with its header (states.csv's depends on the robot: written with its first row).
-  inputs << "utime,seq,mode,tip_x,tip_y,tip_z,contact_link,attach_link,client\n";
-  client << "utime,cycles,rate_hz,rtt_us_p50,rtt_us_p99,deadline_misses,fallbacks,force_scale,max_force_step,"
-            "rendered_fx,rendered_fy,rendered_fz,client,proxy_substep_limited\n";
-  // One row per hand per state: every input a step consumed and the force that hand applied.
-  hands << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
-  server << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
-            "first_collision_time,min_obstacle_distance,commands_received,commands_rejected,contact_solves,"
-            "contact_unconverged,contact_candidates_dropped,proxy_substep_limited\n";
-  bool header = false, wrote_models = false;
-  std::vector<std::string> links;  // the state's link order, from any server status in the log
-  for (const auto& e : c.events) {
-    igms::server_status_t st;
-    if (e.channel == igms::channels::kServerStatus &&
-        igms::safeDecode(e.data.data(), e.data.size(), &st)) {
-      links = st.link_names;
-      break;
-    }
-  }
-  for (const auto& e : c.events) {
-    const auto* d = e.data.data();
-    const int n = static_cast<int>(e.data.size());
-    if (e.channel == igms::channels::kSessionInfo) {
-      igms::session_info_t s;
-      if (igms::safeDecode(d, n, &s)) {
-        std::ofstream(dir + "/scene.yaml") << s.scene_text;
-        // The log's copy of the model, next to the scene: an export stands on its own too.
-        std::string model_file = std::filesystem::path(s.model_path).filename().string();
-        if (s.model_size <= 0 || !writeLoggedModel(dir, model_file, s)) model_file.clear();
-        std::ofstream(dir + "/session.txt") << "scene_path: " << s.scene_path << "\nmodel_path: " << s.model_path
-                                            << "\nmodel_hash: " << s.model_hash << "\nmodel_file: " << model_file
-                                            << "\nbuild: " << s.build_version << "\nclock: " << s.clock << "\n";
-      }
-    } else if (e.channel == igms::channels::kSessionFiles && !wrote_models) {
-      // Every robot's model (a scene of several): beside the scene, and listed in models.txt.
-      igms::session_files_t f;
-      if (!igms::safeDecode(d, n, &f)) continue;
-      wrote_models = true;
-      std::ofstream list(dir + "/models.txt");
-      for (const igms::robot_files_t& r : f.robots) {
-        std::string file = std::filesystem::path(r.model_path).filename().string();
-        if (!r.robot.empty() && f.robots.size() > 1) file = r.robot + "_" + file;
-        if (!writeLoggedModel(dir, file, r)) file.clear();
-        list << (r.robot.empty() ? "-" : r.robot) << " " << file << " " << r.model_hash << " " << r.model_path << "\n";
-      }
-    } else if (e.channel == igms::channels::kServerStatus) {
-      igms::server_status_t s;
-      if (!igms::safeDecode(d, n, &s)) continue;
-      server << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
-             << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
-             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
-             << s.commands_rejected << "," << s.contact_solves << "," << s.contact_unconverged << ","
-             << s.contact_candidates_dropped << "," << s.proxy_substep_limited << "\n";
-    } else if (e.channel == igms::channels::kRobotState) {
-      igms::robot_state_t s;
-      if (!igms::safeDecode(d, n, &s)) continue;
-      if (!header) {
-        states << "t,seq,input_seq,mode";
-        for (int j = 0; j < s.nq; ++j) states << ",q" << j;
-        for (int j = 0; j < s.nv; ++j) states << ",v" << j;
-        for (int j = 0; j < s.nv; ++j) states << ",qdd" << j;
-        for (int j = 0; j < s.nv; ++j) states << ",tau" << j;
-        states << ",fx,fy,fz,px,py,pz,min_obstacle_distance,in_collision,step_us,tx,ty,tz,nhands";
-        for (int l = 0; l < s.nlinks; ++l) {
-          const std::string name = l < static_cast<int>(links.size()) ? links[l] : "link" + std::to_string(l);
-          states << "," << name << ".x," << name << ".y," << name << ".z";
-        }
-        states << "\n";
-        header = true;
-      }
-      states << s.sim_time << "," << s.seq << "," << s.input_seq << "," << int{s.mode};
-      for (double x : s.q) states << "," << x;
-      for (double x : s.v) states << "," << x;
-      for (double x : s.qdd) states << "," << x;
-      for (double x : s.tau) states << "," << x;
-      for (double x : s.interaction_force) states << "," << x;
-      for (double x : s.interaction_point) states << "," << x;
-      states << "," << s.min_obstacle_distance << "," << int{s.in_collision} << "," << s.step_us;
-      for (double x : s.interaction_torque) states << "," << x;
-      states << "," << s.nhands;
-      for (size_t h = 0; h < static_cast<size_t>(s.nhands); ++h) {
-        hands << s.sim_time << "," << s.seq << "," << s.hand_client[h] << "," << s.hand_input_seq[h] << ","
-              << int{s.hand_mode[h]};
-        for (double x : s.hand_force[h]) hands << "," << x;
-        for (double x : s.hand_torque[h]) hands << "," << x;
-        for (double x : s.hand_point[h]) hands << "," << x;
-        hands << "\n";
-      }
-      for (const auto& p : s.link_poses) states << "," << p[0] << "," << p[1] << "," << p[2];
-      states << "\n";
-    } else if (e.channel == igms::channels::kHapticInput) {
-      igms::haptic_input_t s;
-      if (!igms::safeDecode(d, n, &s)) continue;
-      inputs << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
-             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link << "," << s.client_id
-             << "\n";
-    } else if (e.channel == igms::channels::kClientStatus) {
-      igms::client_status_t s;
-      if (!igms::safeDecode(d, n, &s)) continue;
-      client << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
-             << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
-             << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "," << s.client_id
-             << "," << s.proxy_substep_limited << "\n";
-    }
-  }
-  // An environment (free bodies, several robots, contact): environment.csv from the re-simulation
-  // (bit-identical to the recorded run): every coordinate by name (each robot's q, each free body's
-  // pose) and the step's contact count and deepest overlap, which the states do not carry.
-  bool env_header = false, obstacles_header = false;
-  std::ofstream env, obstacles;
-  // obstacles.csv: the robots' distance to each watched (not solid) obstacle on its own (the states
-  // carry only the nearest), so that a summary can leave out the obstacle a line is meant to reach.
-  std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle;
-  std::unique_ptr<igms::Data> fk;  // the link poses for the check (the callback's simulation is const)
-  const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) {
-    const auto& scene_obstacles = sim.scene().obstacles;
-    const bool watched = std::any_of(scene_obstacles.begin(), scene_obstacles.end(),
-                                     [](const igms::Obstacle& o) { return !o.solid; });
-    if (watched) {
-      if (!obstacles_header) {
-        obstacles.open(dir + "/obstacles.csv");
-        igms::cli::roundTripDigits(obstacles);
-        obstacles << "t,step";
-        for (const igms::Obstacle& o : scene_obstacles) {
-          if (o.solid) continue;  // touched through contact, not watched (the states' distance leaves it out too)
-          obstacles << "," << o.name;
-          each_obstacle.push_back(std::make_unique<igms::CollisionWorld>(sim.model(), std::vector<igms::Obstacle>{o}));
-        }
-        obstacles << "\n";
-        obstacles_header = true;
-        fk = std::make_unique<igms::Data>(sim.model());
-      }
-      igms::forwardKinematics(sim.model(), *fk, sim.q());  // every frame's world pose, in fk->oMf
-      obstacles << sim.time() << "," << sim.steps();
-      for (const auto& world : each_obstacle) obstacles << "," << world->check(fk->oMf).min_distance;
-      obstacles << "\n";
-    }
-    if (!sim.hasContacts() && sim.model().parts.size() < 2) return;
-    if (!env_header) {
-      env.open(dir + "/environment.csv");
-      igms::cli::roundTripDigits(env);
-      env << "t,step";
-      for (const std::string& n : igms::coordinateNames(sim.model())) env << "," << n;
-      env << ",contacts,max_penetration,robot_body_contacts\n";
-      env_header = true;
-    }
-    env << sim.time() << "," << sim.steps();
-    for (int k = 0; k < sim.q().size(); ++k) env << "," << sim.q()[k];
-    env << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "," << robotBodyContacts(sim) << "\n";
-  });
-  if (env_header && !r.error.empty()) std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
+  out.events(c.events);
+  const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) { out.resimulated(sim); });
+  if (out.wroteEnvironment() && !r.error.empty())
+    std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
   std::fprintf(stderr, "igms-replay: exported %s to %s/%s%s\n", path.c_str(), dir.c_str(),
-               obstacles_header ? " (with obstacles.csv)" : "", env_header ? " (with environment.csv)" : "");
+               out.wroteObstacles() ? " (with obstacles.csv)" : "", out.wroteEnvironment() ? " (with environment.csv)" : "");
   return c.damaged ? 3 : 0;
 }
 
