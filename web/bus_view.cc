@@ -127,92 +127,103 @@ std::string BusView::frameJson(double now, const std::string& extra) {
   s.reserve(512 + 80 * static_cast<size_t>(state_.nlinks));
   s += "{\"type\":\"frame\"";
   const bool server_lost = now - std::max(state_time_, server_time_) > kLostAfter;
-  if (have_state_) {
-    const robot_state_t& m = state_;
-    s += ",\"t\":"; append(s, "%.6f", m.sim_time);
-    s += ",\"seq\":" + std::to_string(m.seq);
-    s += ",\"mode\":" + std::to_string(int{m.mode});
-    s += ",\"force\":"; appendArray(s, m.interaction_force, 3);
-    s += ",\"point\":"; appendArray(s, m.interaction_point, 3);
-    s += ",\"torque\":"; appendArray(s, m.interaction_torque, 3);
-    s += ",\"hands\":" + std::to_string(m.nhands);
-    s += ",\"in_collision\":"; s += m.in_collision ? "true" : "false";
-    s += ",\"closest_link\":" + std::to_string(m.closest_link);
-    s += ",\"min_distance\":"; append(s, "%.5g", m.min_obstacle_distance);
-    s += ",\"step_us\":" + std::to_string(m.step_us);
-    s += ",\"poses\":[";
-    for (int i = 0; i < m.nlinks; ++i) {
-      if (i) s += ',';
-      appendArray(s, m.link_poses[static_cast<size_t>(i)].data(), 7, "%.6g");
-    }
-    s += ']';
-  }
-  if (have_server_) {
-    const server_status_t& st = server_;
-    s += ",\"server\":{\"state\":"; appendString(s, st.state);
-    s += ",\"message\":"; appendString(s, st.message);
-    s += ",\"rate\":"; append(s, "%.1f", st.rate_hz);
-    s += ",\"step_p50\":"; append(s, "%.2f", st.step_us_p50);
-    s += ",\"step_p99\":"; append(s, "%.2f", st.step_us_p99);
-    s += ",\"step_max\":"; append(s, "%.2f", st.step_us_max);
-    s += ",\"overruns\":" + std::to_string(st.overruns);
-    s += ",\"inputs_rejected\":" + std::to_string(st.inputs_rejected);
-    s += ",\"commands_rejected\":" + std::to_string(st.commands_rejected);
-    s += ",\"token\":\"" + std::to_string(st.session_token) + "\"}";
-  }
+  if (have_state_) appendState(s);
+  if (have_server_) appendServer(s);
   s += ",\"server_lost\":"; s += server_lost ? "true" : "false";
-  if (have_client_) {
-    const client_status_t& c = client_;
-    s += ",\"client\":{\"state\":"; appendString(s, c.state);
-    s += ",\"device\":"; appendString(s, c.device);
-    s += ",\"fallback\":"; appendString(s, c.fallback);
-    s += ",\"rate\":"; append(s, "%.1f", c.rate_hz);
-    s += ",\"misses\":" + std::to_string(c.deadline_misses);
-    s += ",\"fallbacks\":" + std::to_string(c.fallbacks);
-    s += ",\"rtt_p50\":"; append(s, "%.0f", c.rtt_us_p50);
-    s += ",\"rtt_p99\":"; append(s, "%.0f", c.rtt_us_p99);
-    s += ",\"force_scale\":"; append(s, "%.3f", c.force_scale);
-    s += ",\"max_force_step\":"; append(s, "%.4f", c.max_force_step);
-    s += ",\"rendered_force\":"; appendArray(s, c.rendered_force, 3);
-    s += "}";
-    const bool finished = c.state == "finished";
-    s += ",\"client_lost\":"; s += (!finished && now - client_time_ > kLostAfter) ? "true" : "false";
-  }
-  if (have_input_ && now - input_time_ < kLostAfter) {
-    const haptic_input_t& in = input_;
-    s += ",\"input\":{\"tip\":"; appendArray(s, in.tip_position, 3);
-    s += ",\"radius\":"; append(s, "%.4g", in.tip_radius);
-    s += ",\"mode\":" + std::to_string(int{in.mode});
-    s += ",\"attach_link\":"; appendString(s, in.attach_link);
-    s += ",\"attach_point\":"; appendArray(s, in.attach_point, 3);
-    s += "}";
-  }
-  // The contacts: points and forces as flat [x y z ...] arrays. The force drawn is the one on the
-  // moving side (on b, as sent, unless b is the world: then on a), so an arrow shows what the
-  // ground or a table does to the body.
-  if (have_contacts_ && now - contacts_time_ < kContactsFor) {
-    const contacts_t& c = contacts_;
-    s += ",\"contacts\":{\"seq\":" + std::to_string(c.seq) + ",\"total\":" + std::to_string(c.total) + ",\"p\":[";
-    for (int k = 0; k < c.ncontacts; ++k) {
-      for (int i = 0; i < 3; ++i) {
-        if (k || i) s += ',';
-        append(s, "%.4f", c.point[static_cast<size_t>(k)][static_cast<size_t>(i)]);
-      }
-    }
-    s += "],\"f\":[";
-    for (int k = 0; k < c.ncontacts; ++k) {
-      const auto n = static_cast<size_t>(k);
-      const double sign = c.link_b[n] < 0 && c.link_a[n] >= 0 ? -1.0 : 1.0;
-      for (int i = 0; i < 3; ++i) {
-        if (k || i) s += ',';
-        append(s, "%.4g", sign * c.force[n][static_cast<size_t>(i)]);
-      }
-    }
-    s += "]}";
-  }
+  if (have_client_) appendClient(s, now);
+  if (have_input_ && now - input_time_ < kLostAfter) appendInput(s);
+  if (have_contacts_ && now - contacts_time_ < kContactsFor) appendContacts(s);
   s += extra;
   s += '}';
   return s;
+}
+
+// The frame's parts, each from the newest message of its channel (mutex_ held).
+void BusView::appendState(std::string& s) const {
+  const robot_state_t& m = state_;
+  s += ",\"t\":"; append(s, "%.6f", m.sim_time);
+  s += ",\"seq\":" + std::to_string(m.seq);
+  s += ",\"mode\":" + std::to_string(int{m.mode});
+  s += ",\"force\":"; appendArray(s, m.interaction_force, 3);
+  s += ",\"point\":"; appendArray(s, m.interaction_point, 3);
+  s += ",\"torque\":"; appendArray(s, m.interaction_torque, 3);
+  s += ",\"hands\":" + std::to_string(m.nhands);
+  s += ",\"in_collision\":"; s += m.in_collision ? "true" : "false";
+  s += ",\"closest_link\":" + std::to_string(m.closest_link);
+  s += ",\"min_distance\":"; append(s, "%.5g", m.min_obstacle_distance);
+  s += ",\"step_us\":" + std::to_string(m.step_us);
+  s += ",\"poses\":[";
+  for (int i = 0; i < m.nlinks; ++i) {
+    if (i) s += ',';
+    appendArray(s, m.link_poses[static_cast<size_t>(i)].data(), 7, "%.6g");
+  }
+  s += ']';
+}
+
+void BusView::appendServer(std::string& s) const {
+  const server_status_t& st = server_;
+  s += ",\"server\":{\"state\":"; appendString(s, st.state);
+  s += ",\"message\":"; appendString(s, st.message);
+  s += ",\"rate\":"; append(s, "%.1f", st.rate_hz);
+  s += ",\"step_p50\":"; append(s, "%.2f", st.step_us_p50);
+  s += ",\"step_p99\":"; append(s, "%.2f", st.step_us_p99);
+  s += ",\"step_max\":"; append(s, "%.2f", st.step_us_max);
+  s += ",\"overruns\":" + std::to_string(st.overruns);
+  s += ",\"inputs_rejected\":" + std::to_string(st.inputs_rejected);
+  s += ",\"commands_rejected\":" + std::to_string(st.commands_rejected);
+  s += ",\"token\":\"" + std::to_string(st.session_token) + "\"}";
+}
+
+void BusView::appendClient(std::string& s, double now) const {
+  const client_status_t& c = client_;
+  s += ",\"client\":{\"state\":"; appendString(s, c.state);
+  s += ",\"device\":"; appendString(s, c.device);
+  s += ",\"fallback\":"; appendString(s, c.fallback);
+  s += ",\"rate\":"; append(s, "%.1f", c.rate_hz);
+  s += ",\"misses\":" + std::to_string(c.deadline_misses);
+  s += ",\"fallbacks\":" + std::to_string(c.fallbacks);
+  s += ",\"rtt_p50\":"; append(s, "%.0f", c.rtt_us_p50);
+  s += ",\"rtt_p99\":"; append(s, "%.0f", c.rtt_us_p99);
+  s += ",\"force_scale\":"; append(s, "%.3f", c.force_scale);
+  s += ",\"max_force_step\":"; append(s, "%.4f", c.max_force_step);
+  s += ",\"rendered_force\":"; appendArray(s, c.rendered_force, 3);
+  s += "}";
+  const bool finished = c.state == "finished";
+  s += ",\"client_lost\":"; s += (!finished && now - client_time_ > kLostAfter) ? "true" : "false";
+}
+
+void BusView::appendInput(std::string& s) const {
+  const haptic_input_t& in = input_;
+  s += ",\"input\":{\"tip\":"; appendArray(s, in.tip_position, 3);
+  s += ",\"radius\":"; append(s, "%.4g", in.tip_radius);
+  s += ",\"mode\":" + std::to_string(int{in.mode});
+  s += ",\"attach_link\":"; appendString(s, in.attach_link);
+  s += ",\"attach_point\":"; appendArray(s, in.attach_point, 3);
+  s += "}";
+}
+
+  // The contacts: points and forces as flat [x y z ...] arrays. The force drawn is the one on the
+  // moving side (on b, as sent, unless b is the world: then on a), so an arrow shows what the
+  // ground or a table does to the body.
+void BusView::appendContacts(std::string& s) const {
+  const contacts_t& c = contacts_;
+  s += ",\"contacts\":{\"seq\":" + std::to_string(c.seq) + ",\"total\":" + std::to_string(c.total) + ",\"p\":[";
+  for (int k = 0; k < c.ncontacts; ++k) {
+    for (int i = 0; i < 3; ++i) {
+      if (k || i) s += ',';
+      append(s, "%.4f", c.point[static_cast<size_t>(k)][static_cast<size_t>(i)]);
+    }
+  }
+  s += "],\"f\":[";
+  for (int k = 0; k < c.ncontacts; ++k) {
+    const auto n = static_cast<size_t>(k);
+    const double sign = c.link_b[n] < 0 && c.link_a[n] >= 0 ? -1.0 : 1.0;
+    for (int i = 0; i < 3; ++i) {
+      if (k || i) s += ',';
+      append(s, "%.4g", sign * c.force[n][static_cast<size_t>(i)]);
+    }
+  }
+  s += "]}";
 }
 
 }  // namespace igms::web

@@ -42,6 +42,13 @@ class BusView {
   int64_t states() const;
 
  private:
+  // frameJson's parts (mutex_ held).
+  void appendState(std::string& s) const;
+  void appendServer(std::string& s) const;
+  void appendClient(std::string& s, double now) const;
+  void appendInput(std::string& s) const;
+  void appendContacts(std::string& s) const;
+
   template <typename Message>
   bool take(const void* data, size_t size, double now, Message* out, double* time, bool* have);
 

@@ -85,6 +85,13 @@ struct WebServer::Impl {
   std::mutex files_mutex;
   std::map<std::string, std::string> files;  // url path -> file
   int next_file = 1;
+
+  void serveHttp(WebServer& w, Handle h);
+  bool validateSocket(WebServer& w, Handle h);
+  void openSocket(WebServer& w, Handle h);
+  void closeSocket(WebServer& w, Handle h);
+  void takeMessage(WebServer& w, Handle h, Server::message_ptr m);
+  void listen(WebServer& w);
 };
 
 WebServer::WebServer(const WebServerOptions& options) : impl_(std::make_unique<Impl>()), options_(options) {}
@@ -203,137 +210,152 @@ void WebServer::start() {
   s.init_asio();
   s.set_reuse_addr(true);
   s.set_max_message_size(kMaxMessageBytes);
+  s.set_http_handler([this, impl](Handle h) { impl->serveHttp(*this, h); });
+  s.set_validate_handler([this, impl](Handle h) { return impl->validateSocket(*this, h); });
+  s.set_open_handler([this, impl](Handle h) { impl->openSocket(*this, h); });
+  s.set_close_handler([this, impl](Handle h) { impl->closeSocket(*this, h); });
+  s.set_message_handler([this, impl](Handle h, Server::message_ptr m) { impl->takeMessage(*this, h, m); });
+  impl->listen(*this);
+}
 
-  s.set_http_handler([this, impl](Handle h) {
-    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
-    ++counters_.http_requests;
-    if (!hostAllowed(con->get_request_header("Host"), options_.bind, port_)) {
-      ++counters_.rejected_host;
-      con->set_status(websocketpp::http::status_code::forbidden);
-      con->replace_header("Content-Type", "text/plain");
-      con->set_body("this server answers to the names it is bound to, not to " + con->get_request_header("Host") + "\n");
-      return;
-    }
-    std::string resource = con->get_resource();
-    const size_t q = resource.find('?');
-    if (q != std::string::npos) resource.resize(q);
-    std::string file, body;
-    if (resource == "/" || resource == "/index.html") {
-      file = options_.page_dir + "/index.html";
-    } else if (resource == "/status.json") {
-      const WebCounters& c = counters_;
-      std::ostringstream o;
-      o << "{\"connections\":" << c.connections << ",\"messages\":" << c.messages
-        << ",\"rejected_malformed\":" << c.rejected_malformed << ",\"rejected_token\":" << c.rejected_token
-        << ",\"rejected_origin\":" << c.rejected_origin << ",\"rejected_host\":" << c.rejected_host
-        << ",\"frames_sent\":" << c.frames_sent << ",\"frames_skipped\":" << c.frames_skipped
-        << ",\"bytes_sent\":" << c.bytes_sent << ",\"http_requests\":" << c.http_requests
-        << ",\"http_not_found\":" << c.http_not_found;
-      if (impl->status_extra) o << impl->status_extra();
-      o << "}";
-      con->set_status(websocketpp::http::status_code::ok);
-      con->replace_header("Content-Type", "application/json");
-      con->replace_header("Cache-Control", "no-store");
-      con->set_body(o.str());
-      return;
-    } else if (resource.rfind("/igms/", 0) == 0 && safeRelative(resource.substr(6))) {
-      file = options_.page_dir + "/" + resource.substr(6);
-    } else if (resource.rfind("/three/", 0) == 0 && safeRelative(resource.substr(7))) {
-      file = options_.three_dir + "/" + resource.substr(7);
-    } else if (resource.rfind("/mesh/", 0) == 0) {
-      std::lock_guard<std::mutex> lock(impl->files_mutex);
-      const auto it = impl->files.find(resource);
-      if (it != impl->files.end()) file = it->second;
-    }
-    if (file.empty() || !readFile(file, &body)) {
-      ++counters_.http_not_found;
-      con->set_status(websocketpp::http::status_code::not_found);
-      con->replace_header("Content-Type", "text/plain");
-      con->set_body("not found: " + resource + "\n");
-      return;
-    }
+// The server thread's handlers (Impl is WebServer's: they count in its counters).
+void WebServer::Impl::serveHttp(WebServer& w, Handle h) {
+  Server::connection_ptr con = server.get_con_from_hdl(h);
+  ++w.counters_.http_requests;
+  if (!hostAllowed(con->get_request_header("Host"), w.options_.bind, w.port_)) {
+    ++w.counters_.rejected_host;
+    con->set_status(websocketpp::http::status_code::forbidden);
+    con->replace_header("Content-Type", "text/plain");
+    con->set_body("this server answers to the names it is bound to, not to " + con->get_request_header("Host") + "\n");
+    return;
+  }
+  std::string resource = con->get_resource();
+  const size_t q = resource.find('?');
+  if (q != std::string::npos) resource.resize(q);
+  std::string file, body;
+  if (resource == "/" || resource == "/index.html") {
+    file = w.options_.page_dir + "/index.html";
+  } else if (resource == "/status.json") {
+    const WebCounters& c = w.counters_;
+    std::ostringstream o;
+    o << "{\"connections\":" << c.connections << ",\"messages\":" << c.messages
+      << ",\"rejected_malformed\":" << c.rejected_malformed << ",\"rejected_token\":" << c.rejected_token
+      << ",\"rejected_origin\":" << c.rejected_origin << ",\"rejected_host\":" << c.rejected_host
+      << ",\"frames_sent\":" << c.frames_sent << ",\"frames_skipped\":" << c.frames_skipped
+      << ",\"bytes_sent\":" << c.bytes_sent << ",\"http_requests\":" << c.http_requests
+      << ",\"http_not_found\":" << c.http_not_found;
+    if (status_extra) o << status_extra();
+    o << "}";
     con->set_status(websocketpp::http::status_code::ok);
-    con->replace_header("Content-Type", mimeOf(file));
-    con->replace_header("Cache-Control", "no-cache");
-    con->set_body(std::move(body));
-  });
+    con->replace_header("Content-Type", "application/json");
+    con->replace_header("Cache-Control", "no-store");
+    con->set_body(o.str());
+    return;
+  } else if (resource.rfind("/igms/", 0) == 0 && safeRelative(resource.substr(6))) {
+    file = w.options_.page_dir + "/" + resource.substr(6);
+  } else if (resource.rfind("/three/", 0) == 0 && safeRelative(resource.substr(7))) {
+    file = w.options_.three_dir + "/" + resource.substr(7);
+  } else if (resource.rfind("/mesh/", 0) == 0) {
+    std::lock_guard<std::mutex> lock(files_mutex);
+    const auto it = files.find(resource);
+    if (it != files.end()) file = it->second;
+  }
+  if (file.empty() || !readFile(file, &body)) {
+    ++w.counters_.http_not_found;
+    con->set_status(websocketpp::http::status_code::not_found);
+    con->replace_header("Content-Type", "text/plain");
+    con->set_body("not found: " + resource + "\n");
+    return;
+  }
+  con->set_status(websocketpp::http::status_code::ok);
+  con->replace_header("Content-Type", mimeOf(file));
+  con->replace_header("Cache-Control", "no-cache");
+  con->set_body(std::move(body));
+}
 
-  s.set_validate_handler([this, impl](Handle h) {
-    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
-    const std::string r = con->get_resource();
-    if (r != "/ws" && r.rfind("/ws?", 0) != 0) return false;
-    if (!hostAllowed(con->get_request_header("Host"), options_.bind, port_)) {
-      ++counters_.rejected_host;
-      return false;
-    }
-    if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), options_.bind, port_,
-                   options_.allow_no_origin))
-      return true;
-    ++counters_.rejected_origin;
+// Only a socket on /ws, from a page this server served (its Host and Origin), opens.
+bool WebServer::Impl::validateSocket(WebServer& w, Handle h) {
+  Server::connection_ptr con = server.get_con_from_hdl(h);
+  const std::string r = con->get_resource();
+  if (r != "/ws" && r.rfind("/ws?", 0) != 0) return false;
+  if (!hostAllowed(con->get_request_header("Host"), w.options_.bind, w.port_)) {
+    ++w.counters_.rejected_host;
     return false;
-  });
-  s.set_open_handler([this, impl](Handle h) {
-    const int id = impl->next_id++;
-    impl->connections[h] = Impl::Connection{id, false};
-    impl->by_id[id] = h;
-    ++counters_.connections;
-    if (impl->on_open) impl->on_open(id, false);
-  });
-  s.set_close_handler([this, impl](Handle h) {
-    // A message over the size limit ends its connection (close code 1009): a rejection too.
-    Server::connection_ptr con = impl->server.get_con_from_hdl(h);
-    if (con->get_local_close_code() == websocketpp::close::status::message_too_big) ++counters_.rejected_malformed;
-    const auto it = impl->connections.find(h);
-    if (it == impl->connections.end()) return;
-    impl->by_id.erase(it->second.id);
-    impl->connections.erase(it);
-    --counters_.connections;
-  });
-  s.set_message_handler([this, impl](Handle h, Server::message_ptr m) {
-    ++counters_.messages;
-    const auto it = impl->connections.find(h);
-    if (it == impl->connections.end()) return;
-    if (m->get_opcode() != websocketpp::frame::opcode::text) {
-      ++counters_.rejected_malformed;
-      return;
-    }
-    Impl::Connection& c = it->second;
-    const bool first = c.first;
-    c.first = false;
-    std::string token;
-    if (authMessage(m->get_payload(), &token)) {
-      // One try, and only as the first message: a page cannot guess on and on over one socket.
-      if (first && sameToken(token, options_.token)) {
-        c.authorized = true;
-        if (impl->on_authorized) impl->on_authorized(c.id);
-      } else {
-        ++counters_.rejected_token;
-      }
-      return;
-    }
-    if (impl->on_message) impl->on_message(c.id, c.authorized, m->get_payload());
-  });
+  }
+  if (sameOrigin(con->get_request_header("Origin"), con->get_request_header("Host"), w.options_.bind, w.port_,
+                 w.options_.allow_no_origin))
+    return true;
+  ++w.counters_.rejected_origin;
+  return false;
+}
 
+void WebServer::Impl::openSocket(WebServer& w, Handle h) {
+  const int id = next_id++;
+  connections[h] = Impl::Connection{id, false};
+  by_id[id] = h;
+  ++w.counters_.connections;
+  if (on_open) on_open(id, false);
+}
+
+void WebServer::Impl::closeSocket(WebServer& w, Handle h) {
+  // A message over the size limit ends its connection (close code 1009): a rejection too.
+  Server::connection_ptr con = server.get_con_from_hdl(h);
+  if (con->get_local_close_code() == websocketpp::close::status::message_too_big) ++w.counters_.rejected_malformed;
+  const auto it = connections.find(h);
+  if (it == connections.end()) return;
+  by_id.erase(it->second.id);
+  connections.erase(it);
+  --w.counters_.connections;
+}
+
+void WebServer::Impl::takeMessage(WebServer& w, Handle h, Server::message_ptr m) {
+  ++w.counters_.messages;
+  const auto it = connections.find(h);
+  if (it == connections.end()) return;
+  if (m->get_opcode() != websocketpp::frame::opcode::text) {
+    ++w.counters_.rejected_malformed;
+    return;
+  }
+  Impl::Connection& c = it->second;
+  const bool first = c.first;
+  c.first = false;
+  std::string token;
+  if (authMessage(m->get_payload(), &token)) {
+    // One try, and only as the first message: a page cannot guess on and on over one socket.
+    if (first && sameToken(token, w.options_.token)) {
+      c.authorized = true;
+      if (on_authorized) on_authorized(c.id);
+    } else {
+      ++w.counters_.rejected_token;
+    }
+    return;
+  }
+  if (on_message) on_message(c.id, c.authorized, m->get_payload());
+}
+
+// Listens on the bound address (a page that may act: this machine only) and runs the server's thread.
+void WebServer::Impl::listen(WebServer& w) {
+  Server& s = server;
   websocketpp::lib::error_code ec;
   boost::system::error_code address_error;
-  const auto address = boost::asio::ip::make_address(options_.bind, address_error);
-  if (address_error) throw std::runtime_error("--bind " + options_.bind + ": not an IP address");
-  if (!options_.token.empty() && !address.is_loopback())
-    throw std::runtime_error("--bind " + options_.bind +
+  const auto address = boost::asio::ip::make_address(w.options_.bind, address_error);
+  if (address_error) throw std::runtime_error("--bind " + w.options_.bind + ": not an IP address");
+  if (!w.options_.token.empty() && !address.is_loopback())
+    throw std::runtime_error("--bind " + w.options_.bind +
                              ": a page that may act binds to this machine only (127.0.0.1): there is no TLS here, so "
                              "its token would cross the network in the clear; from another machine, use an SSH "
                              "tunnel (ssh -L PORT:127.0.0.1:PORT this-host)");
-  s.listen(boost::asio::ip::tcp::endpoint(address, static_cast<unsigned short>(options_.port)), ec);
+  s.listen(boost::asio::ip::tcp::endpoint(address, static_cast<unsigned short>(w.options_.port)), ec);
   if (ec)
-    throw std::runtime_error("cannot listen on " + options_.bind + ":" + std::to_string(options_.port) + ": " +
+    throw std::runtime_error("cannot listen on " + w.options_.bind + ":" + std::to_string(w.options_.port) + ": " +
                              ec.message());
   boost::system::error_code endpoint_error;
-  port_ = s.get_local_endpoint(endpoint_error).port();
+  w.port_ = s.get_local_endpoint(endpoint_error).port();
   s.start_accept(ec);
   if (ec) throw std::runtime_error("cannot accept connections: " + ec.message());
-  impl->thread = std::thread([impl] {
+  thread = std::thread([this] {
     try {
-      impl->server.run();
+      server.run();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "igms web server: %s\n", e.what());
     }

@@ -53,6 +53,72 @@ SE3 rotZ(double a) { return {Eigen::AngleAxisd(a, Vector3::UnitZ()).toRotationMa
 SE3 transX(double a) { return {Matrix3::Identity(), Vector3(a, 0, 0)}; }
 SE3 transZ(double d) { return {Matrix3::Identity(), Vector3(0, 0, d)}; }
 
+// One row of the table: its joint (after the chain so far, `tail`) and its link, whose inertia the
+// row gives in DH frame i. Moves `parent` and `tail` on to this row's link.
+void addDhRow(const Reader& r, const YAML::Node& row, int index, bool modified, std::string& parent, SE3& tail,
+              RobotDescription& d) {
+  if (!row.IsMap()) r.fail(row, "each entry of 'links' must be a map");
+  const std::string n = std::to_string(index);
+  JointDescription j;
+  j.name = r.text(row, "joint", "joint" + n);
+  const std::string type = r.text(row, "type", "revolute");
+  if (type != "revolute" && type != "prismatic") r.fail(row["type"], "type must be 'revolute' or 'prismatic'");
+  const bool prismatic = type == "prismatic";
+  j.type = prismatic ? JointDescription::Type::Prismatic : JointDescription::Type::Revolute;
+  const double a = r.number(row, "a", 0.0, true);
+  const double alpha = r.number(row, "alpha", 0.0, true);
+  const double offset = r.number(row, "offset", 0.0);
+  const double d_or_theta = prismatic ? r.number(row, "theta", 0.0) : r.number(row, "d", 0.0, true);
+  // pre: constant part before the joint motion; post: after it (standard only).
+  SE3 pre, post;
+  if (modified) {
+    pre = prismatic ? rotX(alpha) * transX(a) * rotZ(d_or_theta) * transZ(offset)
+                    : rotX(alpha) * transX(a) * transZ(d_or_theta) * rotZ(offset);
+  } else {
+    pre = prismatic ? rotZ(d_or_theta) * transZ(offset) : rotZ(offset);
+    post = prismatic ? transX(a) * rotX(alpha) : transZ(d_or_theta) * transX(a) * rotX(alpha);
+  }
+  j.origin = tail * pre;
+  j.axis = Vector3::UnitZ();
+  j.parent = parent;
+  j.child = r.text(row, "link", "link" + n);
+  j.damping = r.number(row, "damping", 0.0);
+  j.friction = r.number(row, "friction", 0.0);
+  if (const YAML::Node lim = row["limits"]) {
+    const auto l = r.numbers(row, "limits", 2);
+    j.lower = l[0];
+    j.upper = l[1];
+  }
+  LinkDescription link;
+  link.name = j.child;
+  link.mass = r.number(row, "mass", 0.0);
+  const auto com = r.numbers(row, "com", 3);
+  const auto I = r.numbers(row, "inertia", 6);
+  Matrix3 Ic;
+  Ic << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+  // com and inertia are given in DH frame i, which sits at `post` in the link frame.
+  link.com = post.act(Vector3(com[0], com[1], com[2]));
+  link.inertia = post.R * Ic * post.R.transpose();
+  d.links.push_back(link);
+  d.joints.push_back(j);
+  parent = j.child;
+  tail = post;
+}
+
+// A tool frame fixed on the last link, `tool_xyz` beyond its DH frame.
+void addTool(const Reader& r, const YAML::Node& root, const std::string& tool, const std::string& parent,
+             const SE3& tail, RobotDescription& d) {
+  d.links.push_back(LinkDescription{tool, 0.0, Vector3::Zero(), Matrix3::Zero(), {}});
+  JointDescription j;
+  j.name = tool + "_joint";
+  j.type = JointDescription::Type::Fixed;
+  j.parent = parent;
+  j.child = tool;
+  const auto offset = r.numbers(root, "tool_xyz", 3);
+  j.origin = tail * SE3{Matrix3::Identity(), Vector3(offset[0], offset[1], offset[2])};
+  d.joints.push_back(j);
+}
+
 }  // namespace
 
 RobotDescription parseDhDescription(const std::string& yaml, const std::string& source) {
@@ -82,66 +148,9 @@ RobotDescription parseDhDescription(const std::string& yaml, const std::string& 
   }
   std::string parent = "base_link";
   int index = 1;
-  for (const YAML::Node& row : links) {
-    if (!row.IsMap()) r.fail(row, "each entry of 'links' must be a map");
-    const std::string n = std::to_string(index++);
-    JointDescription j;
-    j.name = r.text(row, "joint", "joint" + n);
-    const std::string type = r.text(row, "type", "revolute");
-    if (type != "revolute" && type != "prismatic") r.fail(row["type"], "type must be 'revolute' or 'prismatic'");
-    const bool prismatic = type == "prismatic";
-    j.type = prismatic ? JointDescription::Type::Prismatic : JointDescription::Type::Revolute;
-    const double a = r.number(row, "a", 0.0, true);
-    const double alpha = r.number(row, "alpha", 0.0, true);
-    const double offset = r.number(row, "offset", 0.0);
-    const double d_or_theta = prismatic ? r.number(row, "theta", 0.0) : r.number(row, "d", 0.0, true);
-    // pre: constant part before the joint motion; post: after it (standard only).
-    SE3 pre, post;
-    if (modified) {
-      pre = prismatic ? rotX(alpha) * transX(a) * rotZ(d_or_theta) * transZ(offset)
-                      : rotX(alpha) * transX(a) * transZ(d_or_theta) * rotZ(offset);
-    } else {
-      pre = prismatic ? rotZ(d_or_theta) * transZ(offset) : rotZ(offset);
-      post = prismatic ? transX(a) * rotX(alpha) : transZ(d_or_theta) * transX(a) * rotX(alpha);
-    }
-    j.origin = tail * pre;
-    j.axis = Vector3::UnitZ();
-    j.parent = parent;
-    j.child = r.text(row, "link", "link" + n);
-    j.damping = r.number(row, "damping", 0.0);
-    j.friction = r.number(row, "friction", 0.0);
-    if (const YAML::Node lim = row["limits"]) {
-      const auto l = r.numbers(row, "limits", 2);
-      j.lower = l[0];
-      j.upper = l[1];
-    }
-    LinkDescription link;
-    link.name = j.child;
-    link.mass = r.number(row, "mass", 0.0);
-    const auto com = r.numbers(row, "com", 3);
-    const auto I = r.numbers(row, "inertia", 6);
-    Matrix3 Ic;
-    Ic << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
-    // com and inertia are given in DH frame i, which sits at `post` in the link frame.
-    link.com = post.act(Vector3(com[0], com[1], com[2]));
-    link.inertia = post.R * Ic * post.R.transpose();
-    d.links.push_back(link);
-    d.joints.push_back(j);
-    parent = j.child;
-    tail = post;
-  }
+  for (const YAML::Node& row : links) addDhRow(r, row, index++, modified, parent, tail, d);
   const std::string tool = r.text(root, "tool", "");
-  if (!tool.empty()) {
-    d.links.push_back(LinkDescription{tool, 0.0, Vector3::Zero(), Matrix3::Zero(), {}});
-    JointDescription j;
-    j.name = tool + "_joint";
-    j.type = JointDescription::Type::Fixed;
-    j.parent = parent;
-    j.child = tool;
-    const auto offset = r.numbers(root, "tool_xyz", 3);
-    j.origin = tail * SE3{Matrix3::Identity(), Vector3(offset[0], offset[1], offset[2])};
-    d.joints.push_back(j);
-  }
+  if (!tool.empty()) addTool(r, root, tool, parent, tail, d);
   return d;
 }
 

@@ -131,6 +131,46 @@ void printDeviceSummary(const ServoStats& s, const HapticDevice& device) {
   if (const std::string more = device.report(); !more.empty()) std::fprintf(stderr, "igms-haptic: %s\n", more.c_str());
 }
 
+// The device the options name, its link lookups reading the estimate's newest link poses.
+std::unique_ptr<HapticDevice> makeDevice(const ClientOptions& o, const ResolvedScene& resolved, const StateEstimate& estimate,
+                                         const std::vector<SE3>& links, const std::optional<bus::BusKey>& key) {
+  const Model& model = *resolved.model;
+  DeviceContext context{{resolved.scene.workspace_scale, resolved.scene.workspace_offset},
+                        [&](const std::string& name, SE3* X) {
+                          const int f = model.frameIndex(name);
+                          if (f < 0 || !estimate.any()) return false;
+                          *X = links[static_cast<size_t>(f)];
+                          return true;
+                        },
+                        [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url, key,
+                        o.accept_replay};
+  return DeviceRegistry::make(o.device, context);
+}
+
+// What the run leaves behind: the cycles' record (--record) and a script's targets (--export-targets).
+// \return the exit code.
+int writeOutputs(const ClientOptions& o, const ServoRecord& record, const ScriptedDevice* scripted) {
+  if (!o.record.empty()) {
+    std::string error;
+    if (!record.write(o.record, &error)) {
+      std::fprintf(stderr, "igms-haptic: --record %s\n", error.c_str());
+      return 2;
+    }
+    if (record.dropped() > 0)
+      std::fprintf(stderr, "igms-haptic: --record kept the first %zu cycles; %lld more were not recorded\n",
+                   record.rows().size(), static_cast<long long>(record.dropped()));
+  }
+  if (!o.export_targets.empty()) {
+    FILE* f = std::fopen(o.export_targets.c_str(), "w");
+    const std::string text = scripted->pluginTargets();
+    if (!f || std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fclose(f) != 0) {
+      std::fprintf(stderr, "igms-haptic: --export-targets %s: cannot write it\n", o.export_targets.c_str());
+      return 2;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
@@ -159,16 +199,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   std::vector<SE3> links(static_cast<size_t>(nlinks), SE3::Identity());
   std::unique_ptr<HapticDevice> device;
   try {
-    DeviceContext context{{resolved.scene.workspace_scale, resolved.scene.workspace_offset},
-                          [&](const std::string& name, SE3* X) {
-                            const int f = model.frameIndex(name);
-                            if (f < 0 || !estimate.any()) return false;
-                            *X = links[static_cast<size_t>(f)];
-                            return true;
-                          },
-                          [&model](const std::string& name) { return model.frameIndex(name); }, o.lcm_url, key,
-                          o.accept_replay};
-    device = DeviceRegistry::make(o.device, context);
+    device = makeDevice(o, resolved, estimate, links, key);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "igms-haptic: %s\n", e.what());
     return 2;
@@ -213,25 +244,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
                  static_cast<long long>(bus.undecodable()));
-  if (!o.record.empty()) {
-    std::string error;
-    if (!record.write(o.record, &error)) {
-      std::fprintf(stderr, "igms-haptic: --record %s\n", error.c_str());
-      return 2;
-    }
-    if (record.dropped() > 0)
-      std::fprintf(stderr, "igms-haptic: --record kept the first %zu cycles; %lld more were not recorded\n",
-                   record.rows().size(), static_cast<long long>(record.dropped()));
-  }
-  if (!o.export_targets.empty()) {
-    FILE* f = std::fopen(o.export_targets.c_str(), "w");
-    const std::string text = scripted->pluginTargets();
-    if (!f || std::fwrite(text.data(), 1, text.size(), f) != text.size() || std::fclose(f) != 0) {
-      std::fprintf(stderr, "igms-haptic: --export-targets %s: cannot write it\n", o.export_targets.c_str());
-      return 2;
-    }
-  }
-  return 0;
+  return writeOutputs(o, record, scripted);
 }
 
 }  // namespace igms
