@@ -105,6 +105,30 @@ bool isCommand(const std::string& channel, const std::vector<uint8_t>& data) {
   return hash == igms::command_t::getHash();
 }
 
+// What `igms-replay play` published and what it left out, by reason.
+struct PlayCounts {
+  int64_t published = 0, refused_skipped = 0, commands_skipped = 0, forged_skipped = 0, unsigned_published = 0;
+};
+
+void reportPlayed(const PlayCounts& n, bool keyed) {
+  std::fprintf(stderr, "igms-replay: published %lld events%s\n", static_cast<long long>(n.published),
+               keyed ? ", signed as a replay with the bus key (taken by servers, clients and devices only with "
+                       "--accept-replay)"
+                     : "");
+  if (n.commands_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld commands (--with-commands to publish them)\n",
+                 static_cast<long long>(n.commands_skipped));
+  if (n.forged_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld events whose recorded signature does not hold under the key\n",
+                 static_cast<long long>(n.forged_skipped));
+  if (n.unsigned_published)
+    std::fprintf(stderr, "igms-replay: %lld events were unsigned when recorded (an unauthenticated session)\n",
+                 static_cast<long long>(n.unsigned_published));
+  if (n.refused_skipped)
+    std::fprintf(stderr, "igms-replay: left out %lld events the logger had refused (REFUSED:...)\n",
+                 static_cast<long long>(n.refused_skipped));
+}
+
 int play(const std::string& path, const PlayOptions& o) {
   std::map<std::string, std::string> remap;
   for (const auto& r : o.remaps) remap[r.substr(0, r.find('='))] = r.substr(r.find('=') + 1);
@@ -126,12 +150,11 @@ int play(const std::string& path, const PlayOptions& o) {
   // key a replay's goes on, so a program that acts on the bus takes it only when told to (--accept-replay).
   igms::bus::SignedPublisher out(bus, key, 64 * 1024, igms::bus::SenderKind::kReplay);
   igms::bus::MessageVerifier recorded(key, "igms-replay");
-  int64_t refused_skipped = 0, commands_skipped = 0, forged_skipped = 0, unsigned_published = 0;
+  PlayCounts n;
   const std::regex filter(o.regex);
   const double speed = o.speed, start = o.start, end = o.end;
   const bool fast = o.fast, loop = o.loop, step = o.step;
   const int64_t t0 = c.events.front().utime;
-  int64_t published = 0;
   do {
     const auto wall0 = std::chrono::steady_clock::now();
     const double first = start;
@@ -140,19 +163,19 @@ int play(const std::string& path, const PlayOptions& o) {
       const double t = 1e-6 * static_cast<double>(e.utime - t0);
       if (t < start || t > end || !std::regex_match(e.channel, filter)) continue;
       if (e.channel.rfind("REFUSED:", 0) == 0) {  // refused when recorded: never onto a real channel
-        ++refused_skipped;
+        ++n.refused_skipped;
         continue;
       }
       auto it = remap.find(e.channel);
       const std::string& to = it == remap.end() ? e.channel : it->second;
       if (!o.with_commands && (isCommand(e.channel, e.data) || isCommand(to, e.data))) {
-        ++commands_skipped;
+        ++n.commands_skipped;
         continue;
       }
       igms::bus::Trailer trailer;
       const bool had_trailer = igms::bus::findTrailer(e.data.data(), e.data.size(), &trailer);
       if (key && had_trailer && !recorded.tagHolds(e.channel, e.data.data(), e.data.size())) {
-        ++forged_skipped;  // signed under another key, or altered since: not ours to sign
+        ++n.forged_skipped;  // signed under another key, or altered since: not ours to sign
         continue;
       }
       if (step) {
@@ -165,27 +188,12 @@ int play(const std::string& path, const PlayOptions& o) {
       }
       const size_t size = had_trailer ? trailer.payload_bytes : e.data.size();
       out.publish(to, e.data.data(), size);
-      if (key && !had_trailer) ++unsigned_published;
-      ++published;
+      if (key && !had_trailer) ++n.unsigned_published;
+      ++n.published;
     }
-  } while (loop && published > 0 && !igms::stopRequested());
-  std::fprintf(stderr, "igms-replay: published %lld events%s\n", static_cast<long long>(published),
-               key ? ", signed as a replay with the bus key (taken by servers, clients and devices only with "
-                     "--accept-replay)"
-                   : "");
-  if (commands_skipped)
-    std::fprintf(stderr, "igms-replay: left out %lld commands (--with-commands to publish them)\n",
-                 static_cast<long long>(commands_skipped));
-  if (forged_skipped)
-    std::fprintf(stderr, "igms-replay: left out %lld events whose recorded signature does not hold under the key\n",
-                 static_cast<long long>(forged_skipped));
-  if (unsigned_published)
-    std::fprintf(stderr, "igms-replay: %lld events were unsigned when recorded (an unauthenticated session)\n",
-                 static_cast<long long>(unsigned_published));
-  if (refused_skipped)
-    std::fprintf(stderr, "igms-replay: left out %lld events the logger had refused (REFUSED:...)\n",
-                 static_cast<long long>(refused_skipped));
-  if (published == 0 && !igms::stopRequested()) {
+  } while (loop && n.published > 0 && !igms::stopRequested());
+  reportPlayed(n, key.has_value());
+  if (n.published == 0 && !igms::stopRequested()) {
     const std::string until = end > 1e12 ? std::string("the end") : std::to_string(end) + " s";
     std::fprintf(stderr, "igms-replay: nothing in %s matched --channel '%s' between %.3f s and %s\n", path.c_str(),
                  o.regex.c_str(), start, until.c_str());
