@@ -14,8 +14,6 @@
 namespace igms {
 
 namespace {
-constexpr double kRecordPeriod = 0.01;          // s
-constexpr int kRecordCapacity = 60000;          // 10 minutes at 100 Hz
 constexpr double kDivergedSpeed = 1e4;          // rad/s or m/s: no robot moves like this
 }  // namespace
 
@@ -62,14 +60,18 @@ Simulation::Simulation(ResolvedScene resolved)
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
   link_velocities_.resize(m.frames.size());
-  edited_t_.assign(kRecordCapacity, 0.0);
   // Only the first robot's coordinates: a scene of free bodies would otherwise hold 10 minutes of
   // every body's pose (a 216-sphere pile: 725 MB). A one-robot scene records all of q, as before.
   if (!controllers_.empty()) {
-    record_begin_ = controllers_.front()->part().q_begin;
-    record_nq_ = controllers_.front()->part().nq();
+    const ModelPart& part = controllers_.front()->part();
+    std::vector<std::string> joints = model_->joint_name;
+    if (model_->parts.size() > 1) {  // the first robot's coordinates, its own names
+      const std::string prefix = resolved_.robots.front().name.empty() ? "" : resolved_.robots.front().name + "/";
+      joints.clear();
+      for (int i = part.body_begin; i < part.body_end; ++i) joints.push_back(model_->joint_name[i].substr(prefix.size()));
+    }
+    edited_ = EditedTrajectory(part.q_begin, part.nq(), std::move(joints), scene_.source);
   }
-  edited_q_ = MatrixX::Zero(kRecordCapacity, record_nq_);
   qdd_cmd_ = VectorX::Zero(m.nv);
   pd_kp_ = pd_kd_ = pd_q_ = pd_v_ = VectorX::Zero(m.nv);
   reset();
@@ -90,8 +92,7 @@ void Simulation::reset() {
   diverged_ = false;
   divergence_.clear();
   forces_clamped_ = 0;
-  edited_count_ = 0;
-  next_record_t_ = 0.0;
+  edited_.clear();
   for (auto& c : controllers_) c->reset(resolved_.q0);
   dynamics_->resetContacts();
   gains_ = Coupling{};
@@ -105,7 +106,7 @@ void Simulation::reset() {
   std::fill(robot_held_.begin(), robot_held_.end(), 0);
   stall_noted_ = false;
   resume_ramps_ = 0;
-  record(true);
+  edited_.sample(t_, q_, true);
 }
 
 void Simulation::setState(double t, const VectorX& q, const VectorX& v, const VectorX& qdd, bool interacting) {
@@ -372,7 +373,7 @@ bool Simulation::step(const HandInputs& hands) {
   }
   q_good_ = q_;
   v_good_ = v_;
-  record(outcome_.replanned);
+  edited_.sample(t_, q_, outcome_.replanned);
   return true;
 }
 
@@ -406,15 +407,6 @@ bool Simulation::checkFinite() {
   return false;
 }
 
-void Simulation::record(bool force) {
-  if (!force && t_ + 1e-12 < next_record_t_) return;
-  if (edited_count_ >= kRecordCapacity) return;
-  edited_t_[static_cast<size_t>(edited_count_)] = t_;
-  edited_q_.row(edited_count_) = q_.segment(record_begin_, record_nq_).transpose();
-  ++edited_count_;
-  next_record_t_ = t_ + kRecordPeriod;
-}
-
 const Proxy* Simulation::proxyOf(int32_t client) const {
   if (!touch_world_) return nullptr;
   for (const HandTrack& h : hands_)
@@ -439,32 +431,6 @@ const std::vector<Motion>& Simulation::linkVelocities() {
   bodyKinematics(*model_, *data_, q_);
   frameVelocities(*model_, *data_, v_, link_velocities_);
   return link_velocities_;
-}
-
-void Simulation::saveEditedTrajectory(const std::string& path) const {
-  if (record_nq_ == 0) throw std::runtime_error(path + ": the scene has no robot whose motion could be saved");
-  std::vector<double> times;
-  std::vector<VectorX> rows;
-  double last_t = -1.0;
-  for (int k = 0; k < edited_count_; ++k) {
-    if (edited_t_[static_cast<size_t>(k)] <= last_t + 1e-9) continue;  // a spline needs increasing times
-    last_t = edited_t_[static_cast<size_t>(k)];
-    times.push_back(last_t);
-    rows.push_back(edited_q_.row(k).transpose());
-  }
-  if (times.size() < 2) throw std::runtime_error(path + ": fewer than two samples recorded");
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
-  if (!controllers_.empty() && model_->parts.size() > 1) {  // the first robot's coordinates, its own names
-    const ModelPart& part = controllers_.front()->part();
-    const std::string prefix = resolved_.robots.front().name.empty() ? "" : resolved_.robots.front().name + "/";
-    std::vector<std::string> names;
-    for (int i = part.body_begin; i < part.body_end; ++i) names.push_back(model_->joint_name[i].substr(prefix.size()));
-    out << trajectoryFileText(scene_.source, names, times, rows);
-  } else {
-    out << trajectoryFileText(scene_.source, model_->joint_name, times, rows);
-  }
-  if (!out) throw std::runtime_error(path + ": cannot write the edited trajectory");
 }
 
 std::vector<std::string> Simulation::activeComponents() const {

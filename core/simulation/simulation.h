@@ -36,6 +36,7 @@
 #include "core/interaction/proxy.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
+#include "core/simulation/edited_trajectory.h"
 #include "core/simulation/hand_track.h"
 #include "core/simulation/robot_controller.h"
 #include "core/trajectory/piecewise_polynomial.h"
@@ -183,13 +184,9 @@ class Simulation {
   }
   static constexpr int64_t kStallGapUs = 20000;
 
-  // The executed motion of the first robot (its q; none without a robot), sampled every 10 ms
-  // (up to 10 minutes).
-  int editedCount() const { return edited_count_; }
-  double editedTime(int k) const { return edited_t_[static_cast<size_t>(k)]; }
-  auto editedPoint(int k) const { return edited_q_.row(k).transpose(); }
-  // Writes the first robot's part of it as a scene-loadable waypoint file ({waypoints: [{t, q}]}).
-  void saveEditedTrajectory(const std::string& path) const;
+  // The executed motion of the first robot (edited_trajectory.h; none without a robot): edited().save(path)
+  // writes it as a scene-loadable waypoint file.
+  const EditedTrajectory& edited() const { return edited_; }
 
   // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
   std::vector<std::string> activeComponents() const;
@@ -202,7 +199,6 @@ class Simulation {
   bool coupleHands(const HandInputs& inputs);
   void decideHolds(bool any_user);
   void commandRobots();
-  void record(bool force);
   bool checkFinite();
 
   const ResolvedScene resolved_;
@@ -246,11 +242,7 @@ class Simulation {
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
   std::vector<Motion> link_velocities_;
-  std::vector<double> edited_t_;
-  MatrixX edited_q_;            // capacity x the first robot's nq, preallocated
-  int record_begin_ = 0, record_nq_ = 0;
-  int edited_count_ = 0;
-  double next_record_t_ = 0.0;
+  EditedTrajectory edited_;  // the first robot's executed motion (none without a robot)
   VectorX q_good_, v_good_;     // last finite state
 };
 

@@ -75,7 +75,7 @@ CommandResult applyCommand(const command_t& c, Simulation& sim, LoopControl& con
     case command_t::SAVE_TRAJECTORY:
       if (c.text.empty()) return rejected("SAVE_TRAJECTORY: no file given");
       try {
-        sim.saveEditedTrajectory(c.text);
+        sim.edited().save(c.text);
       } catch (const std::exception& e) {
         return rejected(e.what());
       }

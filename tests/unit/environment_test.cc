@@ -58,16 +58,16 @@ TEST(Environment, SeveralRobotsAndFreeBodiesAreTreesOfOneModel) {
 TEST(Environment, TheEditedMotionIsTheFirstRobotsAlone) {
   Simulation workcell(shipped("workcell.yaml"));
   for (int k = 0; k < 50; ++k) ASSERT_TRUE(workcell.step(nullptr));
-  ASSERT_GE(workcell.editedCount(), 2);
-  EXPECT_EQ(workcell.editedPoint(1).size(), workcell.model().parts[0].nq()) << "the PUMA's 6, not every body's pose";
-  EXPECT_DOUBLE_EQ(workcell.editedPoint(0)[0], -0.9);
+  ASSERT_GE(workcell.edited().count(), 2);
+  EXPECT_EQ(workcell.edited().point(1).size(), workcell.model().parts[0].nq()) << "the PUMA's 6, not every body's pose";
+  EXPECT_DOUBLE_EQ(workcell.edited().point(0)[0], -0.9);
   // A scene of free bodies alone records nothing (10 minutes of a pile's poses would be 725 MB)
   // and says so when asked to save it.
   Simulation pile(shipped("sphere_pile.yaml"));
   for (int k = 0; k < 50; ++k) ASSERT_TRUE(pile.step(nullptr));
-  EXPECT_EQ(pile.editedPoint(0).size(), 0);
+  EXPECT_EQ(pile.edited().point(0).size(), 0);
   try {
-    pile.saveEditedTrajectory("/tmp/igms_environment_test_pile.yaml");
+    pile.edited().save("/tmp/igms_environment_test_pile.yaml");
     ADD_FAILURE() << "saved a robot's motion from a scene without a robot";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no robot"), std::string::npos) << e.what();

@@ -350,8 +350,8 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   Simulation sim(scene("puma_wall.yaml"));
   run(sim, 1.0);
   const std::string path = ::testing::TempDir() + "/edited.yaml";
-  sim.saveEditedTrajectory(path);
-  EXPECT_GE(sim.editedCount(), 100);
+  sim.edited().save(path);
+  EXPECT_GE(sim.edited().count(), 100);
   Scene replay = scene("puma_wall.yaml");
   replay.robots[0].trajectory =
       parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").robots[0].trajectory;
@@ -364,7 +364,7 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   EXPECT_EQ(t.file, path);
   EXPECT_NE(t.file_text.find("joints: [joint1"), std::string::npos) << t.file_text;
   // Doubles survive the emitter bit for bit.
-  EXPECT_EQ(t.waypoints.front(), VectorX(sim.editedPoint(0)));
+  EXPECT_EQ(t.waypoints.front(), VectorX(sim.edited().point(0)));
   std::remove(path.c_str());
 }
 
