@@ -150,13 +150,22 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
   }
 }
 
+void CoupledDynamics::detectContacts(const VectorX& q) {
+  if (!contacts_) return;
+  bodyKinematics(model_, data_, q);
+  detection_->detect(data_, contact_set_);
+  detected_ = true;
+}
+
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                                bool step_start) {
-  // The couplings and the contacts need world poses; the dynamics then reuse them.
-  const bool detect = contacts_ && step_start;
-  const bool placed = in.ncouplings > 0 || detect;
-  if (placed) bodyKinematics(model_, data_, q);
-  if (detect) detection_->detect(data_, contact_set_);
+  // The couplings and the contacts need world poses; the dynamics then reuse them. At a step's start
+  // the detection stage placed them already, at this q.
+  const bool placed = in.ncouplings > 0 || (contacts_ && step_start);
+  const bool detected = step_start && detected_;
+  if (step_start) detected_ = false;
+  if (placed && !detected) bodyKinematics(model_, data_, q);
+  if (contacts_ && step_start && !detected) detection_->detect(data_, contact_set_);
   clearExternalForces(fext_);
   if (step_start && !free_bodies_.empty()) {  // a free body a hand acts on takes the integrators' step
     free_bodies_.clearDriven();

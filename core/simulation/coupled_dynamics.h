@@ -120,7 +120,12 @@ class CoupledDynamics {
                   const ContactModel* contacts = nullptr);
 
   CoupledEvaluation makeEvaluation() const;
-  // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau.
+  // A step's detection stage (Simulation::step calls it before the dynamics): the geoms placed and
+  // the contacts found at q, the step's start state, which the start evaluation then reuses. Without
+  // contact, nothing.
+  void detectContacts(const VectorX& q);
+  // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau (and
+  // where the contacts are found, unless detectContacts found them: an integrator driven alone).
   void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                 bool step_start = true);
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation; a free body's block
@@ -194,6 +199,7 @@ class CoupledDynamics {
   std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactSolver> solver_;
   ContactSet contact_set_;
+  bool detected_ = false;  // detectContacts ran for the step whose start evaluation is next
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;

@@ -313,10 +313,12 @@ bool Simulation::step(const InteractionInput* input) {
 
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
-  // Controls and hands: the stages before the dynamics.
+  // Controls and hands, then the contacts at the start state, then the dynamics (integrateStep:
+  // the coupled dynamics, their contact solve and the configuration update).
   outcome_ = StepOutcome{};
   decideHolds(coupleHands(hands));
   commandRobots();
+  dynamics_->detectContacts(q_);
   // One robot: its hold is b(q, v) (no commanded acceleration). Several: a held robot's share of
   // qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
   CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
