@@ -150,8 +150,7 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
   }
 }
 
-void CoupledDynamics::detectContacts(const VectorX& q) {
-  if (!contacts_) return;
+void CoupledDynamics::detectAt(const VectorX& q) {
   bodyKinematics(model_, data_, q);
   detection_->detect(data_, contact_set_);
   detected_ = true;

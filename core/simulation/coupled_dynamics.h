@@ -123,7 +123,9 @@ class CoupledDynamics {
   // A step's detection stage (Simulation::step calls it before the dynamics): the geoms placed and
   // the contacts found at q, the step's start state, which the start evaluation then reuses. Without
   // contact, nothing.
-  void detectContacts(const VectorX& q);
+  void detectContacts(const VectorX& q) {
+    if (contacts_) detectAt(q);
+  }
   // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau (and
   // where the contacts are found, unless detectContacts found them: an integrator driven alone).
   void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
@@ -200,6 +202,7 @@ class CoupledDynamics {
   std::unique_ptr<ContactSolver> solver_;
   ContactSet contact_set_;
   bool detected_ = false;  // detectContacts ran for the step whose start evaluation is next
+  void detectAt(const VectorX& q);
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;

@@ -20,15 +20,6 @@ void EditedTrajectory::clear() {
   next_t_ = 0.0;
 }
 
-void EditedTrajectory::sample(double t, const VectorX& q, bool force) {
-  if (!force && t + 1e-12 < next_t_) return;
-  if (count_ >= kCapacity || t_.empty()) return;
-  t_[static_cast<size_t>(count_)] = t;
-  q_.row(count_) = q.segment(q_begin_, q_.cols()).transpose();
-  ++count_;
-  next_t_ = t + kPeriod;
-}
-
 void EditedTrajectory::save(const std::string& path) const {
   if (q_.cols() == 0) throw std::runtime_error(path + ": the scene has no robot whose motion could be saved");
   std::vector<double> times;

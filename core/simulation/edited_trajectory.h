@@ -23,8 +23,15 @@ class EditedTrajectory {
   EditedTrajectory(int q_begin, int nq, std::vector<std::string> joints, std::string source);
 
   void clear();
-  // Samples q at t, if a period has passed since the last sample or `force`d.
-  void sample(double t, const VectorX& q, bool force);
+  // Samples q at t, if a period has passed since the last sample or `force`d (every step asks).
+  void sample(double t, const VectorX& q, bool force) {
+    if (!force && t + 1e-12 < next_t_) return;
+    if (count_ >= kCapacity || t_.empty()) return;
+    t_[static_cast<size_t>(count_)] = t;
+    q_.row(count_) = q.segment(q_begin_, q_.cols()).transpose();
+    ++count_;
+    next_t_ = t + kPeriod;
+  }
 
   int count() const { return count_; }
   double time(int k) const { return t_[static_cast<size_t>(k)]; }

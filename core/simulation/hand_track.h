@@ -52,14 +52,16 @@ class HandTrack {
   int stepsWithoutInput() const { return steps_without_input_; }
   double scale() const { return scale_; }  // the coupling's share this step, (0, 1]
 
-  Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())
-
  private:
+  // First, as the step reads them for every hand (the proxy's buffers follow).
   int32_t client_ = -1;
   int64_t last_seq_ = -1;
   int steps_without_input_ = 0;
   bool stall_ = false;
   double scale_ = 1.0;
+
+ public:
+  Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())
 };
 
 }  // namespace igms
