@@ -13,27 +13,18 @@
 #include "bus/message_verifier.h"
 #include "bus/subscription.h"
 #include "igms/robot_state_t.hpp"
+#include "tests/support/signed_message.h"
 
 namespace igms::bus {
 namespace {
 
-BusKey keyOf(uint8_t seed) {
-  BusKey k{};
-  for (size_t i = 0; i < k.size(); ++i) k[i] = static_cast<uint8_t>(seed + 3 * i);
-  return k;
-}
+using test::keyOf;
+using test::signedMessage;
 
 std::vector<uint8_t> encoded(const robot_state_t& m) {
   std::vector<uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
   EXPECT_EQ(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
   return bytes;
-}
-
-std::vector<uint8_t> signedBytes(MessageSigner& signer, const std::string& channel, std::vector<uint8_t> payload) {
-  const size_t n = payload.size();
-  payload.resize(n + kTrailerBytes);
-  payload.resize(signer.sign(channel, payload.data(), n));
-  return payload;
 }
 
 robot_state_t stateNumbered(int64_t seq) {
@@ -77,21 +68,21 @@ TEST(BusSubscription, OnlyAcceptedMessagesThatDecodeReachTheHandler) {
       });
   ASSERT_TRUE(sub->good());
 
-  const auto first = signedBytes(signer, "IGMS_ROBOT_STATE", encoded(stateNumbered(7)));
+  const auto first = signedMessage(signer, "IGMS_ROBOT_STATE", encoded(stateNumbered(7)));
   bus.send("IGMS_ROBOT_STATE", first);
   bus.send("IGMS_ROBOT_STATE", first);                        // replayed: refused by the verifier
   bus.send("IGMS_ROBOT_STATE", encoded(stateNumbered(8)));    // unsigned: refused
   MessageSigner other(keyOf(2));
-  bus.send("IGMS_ROBOT_STATE", signedBytes(other, "IGMS_ROBOT_STATE", encoded(stateNumbered(9))));  // another key
+  bus.send("IGMS_ROBOT_STATE", signedMessage(other, "IGMS_ROBOT_STATE", encoded(stateNumbered(9))));  // another key
   // Signed, but not a robot_state_t: a wrong fingerprint, then a state cut short.
-  bus.send("IGMS_ROBOT_STATE", signedBytes(signer, "IGMS_ROBOT_STATE", std::vector<uint8_t>(40, 0xab)));
+  bus.send("IGMS_ROBOT_STATE", signedMessage(signer, "IGMS_ROBOT_STATE", std::vector<uint8_t>(40, 0xab)));
   auto cut = encoded(stateNumbered(10));
   cut.resize(cut.size() - 9);
-  bus.send("IGMS_ROBOT_STATE", signedBytes(signer, "IGMS_ROBOT_STATE", cut));
+  bus.send("IGMS_ROBOT_STATE", signedMessage(signer, "IGMS_ROBOT_STATE", cut));
   auto header = encoded(stateNumbered(11));
   header.resize(12);  // the fingerprint and half a field
-  bus.send("IGMS_ROBOT_STATE", signedBytes(signer, "IGMS_ROBOT_STATE", header));
-  bus.send("IGMS_ROBOT_STATE", signedBytes(signer, "IGMS_ROBOT_STATE", encoded(stateNumbered(12))));
+  bus.send("IGMS_ROBOT_STATE", signedMessage(signer, "IGMS_ROBOT_STATE", header));
+  bus.send("IGMS_ROBOT_STATE", signedMessage(signer, "IGMS_ROBOT_STATE", encoded(stateNumbered(12))));
 
   EXPECT_EQ(heard, (std::vector<int64_t>{7, 12}));
   EXPECT_EQ(sub->undecodable(), 3);
@@ -122,7 +113,7 @@ TEST(BusSubscription, ARawSubscriptionSeesTheWholeMessageItsRefusalsWhenAskedAnd
   o.wanted = [](const std::string& channel) { return channel != "SKIPPED"; };
   auto sub = subscribeRaw(bus.lcm, verifier, ".*", take, o);
   const std::vector<uint8_t> payload(30, 1);
-  const auto good = signedBytes(signer, "A", payload);
+  const auto good = signedMessage(signer, "A", payload);
   bus.send("A", good);
   bus.send("A", payload);  // unsigned
   bus.send("SKIPPED", payload);
@@ -141,7 +132,7 @@ TEST(BusSubscription, ARawSubscriptionSeesTheWholeMessageItsRefusalsWhenAskedAnd
   auto quiet = subscribeRaw(bus.lcm, verifier, "B", take);
   sub.reset();  // a destroyed subscription hears nothing more
   bus.send("B", payload);
-  bus.send("B", signedBytes(signer, "B", payload));
+  bus.send("B", signedMessage(signer, "B", payload));
   ASSERT_EQ(seen.size(), 1u);
   EXPECT_TRUE(seen[0].accepted);
   EXPECT_EQ(verifier.counts().refusedTotal(), 2);

@@ -20,23 +20,14 @@
 #include "igms/robot_state_t.hpp"
 #include "safe_decode.h"
 #include "tests/support/malloc_counter.h"
+#include "tests/support/signed_message.h"
 #include "tests/support/signed_as.h"
 
 namespace igms::bus {
 namespace {
 
-BusKey keyOf(uint8_t seed) {
-  BusKey k{};
-  for (size_t i = 0; i < k.size(); ++i) k[i] = static_cast<uint8_t>(seed + 7 * i);
-  return k;
-}
-
-std::vector<uint8_t> signedMessage(MessageSigner& signer, const std::string& channel, std::vector<uint8_t> payload) {
-  const size_t n = payload.size();
-  payload.resize(n + kTrailerBytes);
-  payload.resize(signer.sign(channel, payload.data(), n));
-  return payload;
-}
+using test::keyOf;
+using test::signedMessage;
 
 Verdict check(MessageVerifier& v, const std::string& channel, const std::vector<uint8_t>& m) {
   return v.check(channel, m.data(), m.size());
