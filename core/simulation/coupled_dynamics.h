@@ -21,14 +21,10 @@
 #include "core/dynamics/external_force.h"
 #include "core/integrate/free_body_motion.h"
 #include "core/scene/scene.h"
+#include "core/simulation/hand_input.h"
 #include "core/simulation/joint_limits.h"
 
 namespace igms {
-
-enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
-
-// Hands acting on the robot in one step, at most (one coupling each).
-constexpr int kMaxHands = 4;
 
 // One hand's coupling over one step: the device state and the gains.
 struct Coupling {

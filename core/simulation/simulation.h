@@ -37,74 +37,12 @@
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
 #include "core/simulation/edited_trajectory.h"
+#include "core/simulation/hand_input.h"
 #include "core/simulation/hand_track.h"
 #include "core/simulation/robot_controller.h"
 #include "core/trajectory/piecewise_polynomial.h"
 
 namespace igms {
-
-// One validated haptic input, in scene coordinates.
-struct InteractionInput {
-  InteractionMode mode = InteractionMode::None;
-  Vector3 tip_position = Vector3::Zero();
-  Vector3 tip_velocity = Vector3::Zero();
-  double tip_radius = 0.01;
-  int contact_frame = -1;  // push: the link the client touched (-1: any link with collision shapes)
-  int attach_frame = -1;   // pull: the attachment link (-1: the scene's)
-  Vector3 attach_point = Vector3::Zero();
-  // A 6-dof device: its orientation (world <- tip) and angular velocity, and
-  // the grasped frame in the attachment link (link <- grasp; the client sets it
-  // when the grab starts so that the rotational spring starts relaxed).
-  bool has_orientation = false;
-  Eigen::Quaterniond tip_orientation = Eigen::Quaterniond::Identity();
-  Vector3 tip_angular_velocity = Vector3::Zero();
-  Eigen::Quaterniond attach_orientation = Eigen::Quaterniond::Identity();
-  int64_t seq = -1;
-  int32_t client = -1;
-};
-
-// The inputs one step consumes: at most one per client. The step takes them
-// in client-id order whatever the order here, so a re-simulation that hands
-// over the same set reproduces the step bit for bit.
-struct HandInputs {
-  std::array<InteractionInput, kMaxHands> in;
-  int n = 0;
-  void clear() { n = 0; }
-  // false when kMaxHands inputs are already here.
-  bool add(const InteractionInput& input) {
-    if (n >= kMaxHands) return false;
-    in[static_cast<size_t>(n++)] = input;
-    return true;
-  }
-};
-
-// One hand's part of a step: the input it consumed and the force it applied.
-struct HandOutcome {
-  int32_t client = -1;
-  int64_t input_seq = -1;
-  InteractionMode mode = InteractionMode::None;  // None: the input did not interact (or its mode is off)
-  Vector3 force = Vector3::Zero();   // on the robot, world, N (this client feels its reaction)
-  Vector3 torque = Vector3::Zero();  // on the robot, world, N m (6-D pull)
-  Vector3 point = Vector3::Zero();   // where the force acts, world
-  bool clamped = false;
-};
-
-// What the last step did, for the state message: the users' forces the step
-// applied. For the explicit schemes that is their value at the step's start
-// state; the linearly-implicit step takes the springs at its end, and reports
-// those (CoupledDynamics::appliedCouplings): what moved the robot or the body.
-struct StepOutcome {
-  InteractionMode mode = InteractionMode::None;  // the first interacting hand's (in client order)
-  Vector3 force_on_robot = Vector3::Zero();      // world, N: the sum over the hands
-  Vector3 torque_on_robot = Vector3::Zero();     // world, N m: the sum of the hands' moments
-  Vector3 force_point = Vector3::Zero();         // the first interacting hand's point, world
-  bool clamped = false;                          // some hand's force or torque was limited
-  bool replanned = false;                        // a resume trajectory started this step
-  int64_t input_seq = -1;                        // the first consumed input (hands[] lists them all)
-  int32_t input_client = -1;
-  std::array<HandOutcome, kMaxHands> hands;      // every consumed input, in client-id order
-  int nhands = 0;
-};
 
 class Simulation {
  public:

@@ -51,7 +51,7 @@ struct Tally {
 class PySimulation {
  public:
   explicit PySimulation(const Scene& scene)
-      : sim_(scene), bodies_(freeBodyNames()), zero_qdd_(VectorX::Zero(sim_.model().nv)), q_in_(sim_.model().nq),
+      : sim_(scene), frames_(sim_.model()), bodies_(freeBodyNames()), zero_qdd_(VectorX::Zero(sim_.model().nv)), q_in_(sim_.model().nq),
         v_in_(sim_.model().nv), q_start_(sim_.q()) {
     tally_.interactions.reserve(256);
     tally_.open.fill(-1);
@@ -95,7 +95,7 @@ class PySimulation {
     msg.seq = seq_ + 1;
     InteractionInput input;
     RejectReason why;
-    if (!toInteractionInput(msg, sim_.model(), &input, &why))
+    if (!toInteractionInput(msg, frames_, &input, &why))
       throw nb::value_error(("the server's input gate rejects this input: " + std::string(rejectReasonName(why)) +
                              (why == RejectReason::UnknownLink ? " (no link '" + msg.contact_link + msg.attach_link +
                                                                      "' in the scene)"
@@ -276,6 +276,7 @@ class PySimulation {
   }
 
   Simulation sim_;
+  FrameNames frames_;  // the gate's link names, resolved once
   std::vector<std::string> bodies_;
   VectorX zero_qdd_, q_in_, v_in_;
   const VectorX q_start_;  // the scene's initial q (each body's start in summary())

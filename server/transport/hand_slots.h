@@ -7,7 +7,7 @@
 #include <array>
 
 #include "core/realtime/latest_value.h"
-#include "core/simulation/simulation.h"
+#include "core/simulation/hand_input.h"
 
 namespace igms {
 

@@ -39,7 +39,7 @@ void InputGate::newSession(int64_t token) {
   clients_.clear();
 }
 
-bool toInteractionInput(const haptic_input_t& m, const Model& model, InteractionInput* out, RejectReason* why) {
+bool toInteractionInput(const haptic_input_t& m, const FrameNames& frames, InteractionInput* out, RejectReason* why) {
   const bool orientation_finite = !m.has_orientation ||
                                   (finite3(m.tip_angular_velocity) && std::isfinite(m.tip_orientation[0]) &&
                                    finite3(m.tip_orientation + 1) && std::isfinite(m.attach_orientation[0]) &&
@@ -70,8 +70,8 @@ bool toInteractionInput(const haptic_input_t& m, const Model& model, Interaction
     attach_q.normalize();
   }
   int contact = -1, attach = -1;
-  if ((!m.contact_link.empty() && (contact = model.frameIndex(m.contact_link)) < 0) ||
-      (!m.attach_link.empty() && (attach = model.frameIndex(m.attach_link)) < 0)) {
+  if ((!m.contact_link.empty() && (contact = frames.find(m.contact_link)) < 0) ||
+      (!m.attach_link.empty() && (attach = frames.find(m.attach_link)) < 0)) {
     *why = RejectReason::UnknownLink;
     return false;
   }
@@ -124,7 +124,7 @@ bool InputGate::admit(const haptic_input_t& m, InteractionInput* out, RejectReas
   if (m.session_token != token_) return refuse(RejectReason::Token);
   if (!c) c = record(m.client_id);
   InteractionInput converted;
-  if (!toInteractionInput(m, model_, &converted, why)) return refuse(*why);
+  if (!toInteractionInput(m, frames_, &converted, why)) return refuse(*why);
   // Newer than the last input admitted from this client.
   if (c && c->last_seq >= 0 && m.seq <= c->last_seq) return refuse(RejectReason::Stale);
   if (c) {

@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "igms/haptic_input_t.hpp"
-#include "core/simulation/simulation.h"
+#include "core/model/frame_names.h"
+#include "core/model/model.h"
+#include "core/simulation/hand_input.h"
 
 namespace igms {
 
@@ -21,7 +23,7 @@ const char* rejectReasonName(RejectReason r);
 // The checks that do not depend on the session (finite, in range, known
 // links) and the conversion into the step's input: the same for the live
 // server and for re-simulation of a log.
-bool toInteractionInput(const haptic_input_t& msg, const Model& model, InteractionInput* out, RejectReason* why);
+bool toInteractionInput(const haptic_input_t& msg, const FrameNames& frames, InteractionInput* out, RejectReason* why);
 
 // One client as the gate has seen it this session.
 struct ClientRecord {
@@ -34,7 +36,7 @@ struct ClientRecord {
 
 class InputGate {
  public:
-  InputGate(const Model& model, int64_t session_token) : model_(model), token_(session_token) {}
+  InputGate(const Model& model, int64_t session_token) : frames_(model), token_(session_token) {}
 
   // true: *out holds the validated input. false: *why says which check failed.
   // `now`: the arrival time (monotonic s) recorded for the client.
@@ -61,7 +63,7 @@ class InputGate {
     *why = r;
     return false;
   }
-  const Model& model_;
+  FrameNames frames_;  // the model's link names, resolved once per session
   int64_t token_;
   int64_t received_ = 0, missed_ = 0;
   std::array<int64_t, kRejectReasons> rejected_{};

@@ -7,6 +7,7 @@
 #include "core/dynamics/crba.h"
 #include "core/dynamics/ltdl.h"
 #include "core/model/environment_model.h"
+#include "core/model/frame_names.h"
 #include "core/simulation/coupled_dynamics.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/malloc_counter.h"
@@ -232,6 +233,26 @@ TEST(Environment, AFreeBodysFactorsAreFormedOnceAndAreThoseOfItsInertia) {
   dynamics.linearSystem(in, at, v, 1e-3, A, rhs, factored);
   for (int b = 0; b < A.blocks(); ++b) EXPECT_FALSE(factored[static_cast<size_t>(b)]) << "block " << b;
   EXPECT_DOUBLE_EQ(A(0, 0), (1.0 + 5e-3) * crba(m, data, sim.q())(0, 0));
+}
+
+// The bus edge resolves an input's link names once per session (FrameNames): every frame of a robot,
+// of several robots with free bodies and of a 44-dof humanoid is found where Model::frameIndex finds
+// it, an unknown name is -1, and a lookup allocates nothing.
+TEST(FrameNames, FindEveryFrameWhereFrameIndexDoesWithoutAllocating) {
+  for (const char* scene : {"puma_obstacle.yaml", "workcell.yaml", "talos_stand.yaml"}) {
+    Simulation sim(loadScene(test::sourceDir() + "/scenes/" + scene));
+    const Model& m = sim.model();
+    const FrameNames names(m);
+    for (const Frame& f : m.frames) EXPECT_EQ(names.find(f.name), m.frameIndex(f.name)) << scene << ": " << f.name;
+    const std::string unknown[] = {"", "no_such_link", m.frames.back().name + "_", "\xff"};
+    for (const std::string& u : unknown) EXPECT_EQ(names.find(u), -1) << scene;
+    int sum = 0;
+    const size_t allocations = test::allocationsDuring([&] {
+      for (const Frame& f : m.frames) sum += names.find(f.name);
+    });
+    EXPECT_EQ(allocations, 0u) << scene;
+    EXPECT_GT(sum, 0);
+  }
 }
 
 }  // namespace

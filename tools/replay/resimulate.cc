@@ -60,6 +60,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
     return out;
   }
   const Model& model = sim->model();
+  const FrameNames frames(model);
   FieldDeviation dq{"q"}, dv{"v"}, dqdd{"qdd"}, dtau{"tau"}, dforce{"interaction_force"}, dpose{"link_poses"};
   bool identical = true;
   // States in step order; the first state is the initial one (seq 0).
@@ -83,7 +84,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
     for (int h = 0; h < nhands; ++h) {
       const auto it = inputs.find({st.hand_client[static_cast<size_t>(h)], st.hand_input_seq[static_cast<size_t>(h)]});
       RejectReason why;
-      if (it == inputs.end() || !toInteractionInput(it->second, model, &input, &why)) {
+      if (it == inputs.end() || !toInteractionInput(it->second, frames, &input, &why)) {
         out.error = "state " + std::to_string(st.seq) + " consumed input " +
                     std::to_string(st.hand_input_seq[static_cast<size_t>(h)]) + " of client " +
                     std::to_string(st.hand_client[static_cast<size_t>(h)]) + ", which the log does not hold";

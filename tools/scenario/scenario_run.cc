@@ -44,6 +44,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
   const double period = scene.dt;
   haptic_input_t msg{};
   InteractionInput input;
+  const FrameNames frames(model);
   const int steps = static_cast<int>(seconds / period + 0.5);
   int last_mode = 0;
   Vector3 last_rendered = Vector3::Zero();
@@ -57,7 +58,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     client.fillInput(tip, tip_velocity, r.buttons, msg);
     msg.seq = k;
     RejectReason why;
-    const bool ok = device && toInteractionInput(msg, model, &input, &why);  // as the server would see it
+    const bool ok = device && toInteractionInput(msg, frames, &input, &why);  // as the server would see it
     if (!sim.step(ok ? &input : nullptr)) {
       out.diverged = true;
       break;
