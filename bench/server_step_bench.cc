@@ -160,8 +160,8 @@ int main(int argc, char** argv) {
     const auto& poses = sim.linkPoses();
     InteractionInput push;
     push.mode = InteractionMode::Push;
-    push.contact_frame = sim.model().frameIndex("link3");
-    push.tip_position = poses[static_cast<size_t>(push.contact_frame)].p + Vector3(0, 0, 0.055);
+    const int link3 = sim.model().frameIndex("link3");
+    push.tip_position = poses[static_cast<size_t>(link3)].p + Vector3(0, 0, 0.055);
     auto us = timeSteps(sim, &push, n);
     report("PUMA, push coupling (hold + contact), linearly_implicit", us);
   }
@@ -192,8 +192,8 @@ int main(int argc, char** argv) {
     InteractionInput push;
     push.mode = InteractionMode::Push;
     push.client = 2;
-    push.contact_frame = sim.model().frameIndex("link2");
-    push.tip_position = sim.linkPoses()[static_cast<size_t>(push.contact_frame)].act(Vector3(0.2159, 0, 0.15));
+    const int link2 = sim.model().frameIndex("link2");
+    push.tip_position = sim.linkPoses()[static_cast<size_t>(link2)].act(Vector3(0.2159, 0, 0.15));
     two.add(push);
     std::vector<double> hands_us;
     for (int k = 0; k < n; ++k) {
@@ -308,7 +308,6 @@ int main(int argc, char** argv) {
       const int f = sim.model().frameIndex(r.pushed);
       InteractionInput push;
       push.mode = InteractionMode::Push;
-      push.contact_frame = f;
       const auto& poses = sim.linkPoses();
       Vector3 tip = poses[static_cast<size_t>(f)].p + Vector3(0, 0, 0.3);
       for (int k = 0; k < 3000; ++k, tip.z() -= 1e-4) {

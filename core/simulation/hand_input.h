@@ -18,13 +18,13 @@ enum class InteractionMode : int8_t { None = 0, Push = 1, Pull = 2 };
 // Hands acting on the robot in one step, at most (one coupling each).
 constexpr int kMaxHands = 4;
 
-// One validated haptic input, in scene coordinates.
+// One validated haptic input, in scene coordinates. A push acts where the server's proxy for this
+// hand rests (Simulation::coupleHands): the link the client names is validated at the bus edge, not used.
 struct InteractionInput {
   InteractionMode mode = InteractionMode::None;
   Vector3 tip_position = Vector3::Zero();
   Vector3 tip_velocity = Vector3::Zero();
   double tip_radius = 0.01;
-  int contact_frame = -1;  // push: the link the client touched (-1: any link with collision shapes)
   int attach_frame = -1;   // pull: the attachment link (-1: the scene's)
   Vector3 attach_point = Vector3::Zero();
   // A 6-dof device: its orientation (world <- tip) and angular velocity, and

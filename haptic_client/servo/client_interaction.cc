@@ -76,7 +76,6 @@ void ClientInteraction::fillInput(const Vector3& tip, const Vector3& tip_velocit
   input_.tip_position = tip;
   input_.tip_velocity = tip_velocity;
   input_.tip_radius = scene_.push.tip_radius;
-  input_.contact_frame = mode == haptic_input_t::MODE_PUSH ? contact_frame_ : -1;
   input_.attach_frame = mode == haptic_input_t::MODE_PULL ? attach_frame_ : -1;
   input_.attach_point = attach_point_;
 }

@@ -79,7 +79,6 @@ bool toInteractionInput(const haptic_input_t& m, const FrameNames& frames, Inter
   out->tip_position = Vector3(m.tip_position[0], m.tip_position[1], m.tip_position[2]);
   out->tip_velocity = Vector3(m.tip_velocity[0], m.tip_velocity[1], m.tip_velocity[2]);
   out->tip_radius = m.tip_radius > 0.0 ? m.tip_radius : 0.01;
-  out->contact_frame = contact;
   out->attach_frame = attach;
   out->attach_point = Vector3(m.attach_point[0], m.attach_point[1], m.attach_point[2]);
   out->has_orientation = m.has_orientation;

@@ -36,7 +36,6 @@ struct TwoHands {
     const Model& m = sim.model();
     const SE3 link2 = sim.linkPoses()[static_cast<size_t>(m.frameIndex("link2"))];
     push.mode = InteractionMode::Push;
-    push.contact_frame = m.frameIndex("link2");
     // Link 2's cylinder: axis along x through (0.2159, 0, 0.08), radius 7 cm; the tip sphere's centre
     // 6 mm outside its surface, 4 mm deep with its radius (a push starts at most 5 mm deep: proxy.h).
     push.tip_position = link2.act(Vector3(0.2159, 0.0, 0.156));

@@ -41,7 +41,6 @@ TEST(LocalModel, ReproducesTheServersStepUnderTheSameInputs) {
       in.mode = c.mode;
       in.tip_position = start + Vector3(0.0, 0.0, -0.005 * 0.001 * static_cast<double>(s));
       in.tip_velocity = Vector3(0.0, 0.0, -0.005);
-      in.contact_frame = c.mode == InteractionMode::Push ? frame : -1;
       in.attach_frame = c.mode == InteractionMode::Pull ? frame : -1;
       in.seq = s;
       in.client = 1;

@@ -60,7 +60,6 @@ TEST(Scenes, TheSceneGivesOrReplacesALinksCollisionShapes) {
     const int link4 = sim.model().frameIndex("link4");
     InteractionInput push;
     push.mode = InteractionMode::Push;
-    push.contact_frame = link4;
     push.tip_radius = 0.01;
     // 5 mm into a 5 cm sphere at the link's origin, from above.
     push.tip_position = sim.linkPoses()[static_cast<size_t>(link4)].p + Vector3(0, 0, 0.055);
@@ -148,7 +147,6 @@ TEST(Simulation, PushChangesTheTrajectoryAndGenerationResumesToTheGoal) {
   push.mode = InteractionMode::Push;
   push.tip_position = centre + Vector3(0, 0, 0.05);  // 1 cm into the 5 cm radius, tip radius 1 cm
   push.tip_radius = 0.01;
-  push.contact_frame = pushed.model().frameIndex("link3");
   push.seq = 1;
   double peak = 0.0;
   for (int k = 0; k < 300; ++k) {
@@ -186,7 +184,6 @@ TEST(Simulation, AnInteractionAfterAGapInInputsIsRampedBackIn) {
     push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
                          sim.model().frame(link3).collisions[0].placement).p + Vector3(0, 0, 0.056);
     push.tip_radius = 0.01;
-    push.contact_frame = link3;
     push.client = 1;
     std::vector<double> forces;
     for (int k = 0; k < 120; ++k) {
@@ -218,7 +215,6 @@ TEST(Simulation, AStallIsRampedOutEvenWhenTheFirstStepAfterItHasNoInput) {
     InteractionInput push;
     push.mode = InteractionMode::Push;
     push.tip_radius = 0.01;
-    push.contact_frame = link3;
     push.client = 1;
     auto pressAt = [&] {
       push.tip_position = (sim.linkPoses()[static_cast<size_t>(link3)] *
@@ -265,7 +261,6 @@ TEST(Simulation, ReportedForceIsTheForceTheStepApplied) {
     push.mode = InteractionMode::Push;
     push.tip_position = centre + Vector3(0, 0, 0.056);
     push.tip_radius = 0.01;
-    push.contact_frame = link3;
     const bool implicit = kind == IntegratorKind::LinearlyImplicit;
     double worst = 0.0, largest = 0.0, from_start = 0.0;
     auto spring = [&] {  // the push at the current state

@@ -69,7 +69,6 @@ TEST(VirtualCoupling, TheServerAppliesTheSpringAndTheDamperAndNeverPulls) {
     in.client = 1;
     in.seq = 1;
     in.tip_radius = 0.01;
-    in.contact_frame = static_cast<int>(sim.model().frames.size()) - 1;
     const double depth = 0.001;
     in.tip_position = Vector3(-0.1 - in.tip_radius + depth, 0, 0.1);
     in.tip_velocity = Vector3(v_tip, 0, 0);

@@ -273,8 +273,7 @@ Run simulate(const Case& c, Method method, double h) {
     in.tip_position = c.hand.tip;
     in.tip_radius = c.hand.tip_radius;
     const int f = sim.model().frameIndex(c.hand.link);
-    if (c.hand.mode == InteractionMode::Push) in.contact_frame = f;
-    else in.attach_frame = f, in.attach_point = c.hand.point;
+    if (c.hand.mode == InteractionMode::Pull) in.attach_frame = f, in.attach_point = c.hand.point;
     for (int k = 0; k < samples && !run.diverged; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
       for (int j = 0; j < per_sample && !run.diverged; ++j) {
