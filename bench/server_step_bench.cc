@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
   }
   if (wanted("PUMA + FCL obstacles: FK + collision check (publisher)") || wanted("PUMA + FCL obstacles: step + check")) {
     Simulation sim(loadScene(dir + "puma_obstacle.yaml"));
-    CollisionWorld world(sim.model(), sim.scene().obstacles);
+    CollisionWorld world(sim.model(), sim.geometry());
     std::vector<double> step_us, check_us;
     for (int k = 0; k < n; ++k) {
       auto t0 = Clock::now();
@@ -262,6 +262,7 @@ int main(int argc, char** argv) {
       Simulation sim(loadScene(dir + file));
       for (int k = 0; k < 1000; ++k) sim.step(nullptr);  // pressed in, settled
       Data data(sim.model());
+      GeometryData placed(sim.geometry());
       ContactDetection detection(*sim.contactModel());
       ContactSet set(sim.contactModel()->capacity());
       std::vector<double> us;
@@ -270,7 +271,8 @@ int main(int argc, char** argv) {
         sim.step(nullptr);
         bodyKinematics(sim.model(), data, sim.q());
         const auto t0 = Clock::now();
-        detection.detect(data, set);
+        placed.place(sim.geometry(), sim.model(), data);
+        detection.detect(placed, set);
         us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
         points = std::max(points, set.n);
       }

@@ -21,6 +21,7 @@ A "calls" line names a kind of call (one of CALLS below) and the only
 layers whose files may make it:
 
     calls lcm-subscribe: bus
+    calls make-geometry-object: core/geometry
 
     check_architecture.py [--root DIR] [--rules FILE]
 Prints each broken rule as file:line: and exits 1 when any rule is broken.
@@ -40,6 +41,11 @@ CALLS = {
     # LCM's own subscribe (lc.subscribe(...), lcm_->subscribeFunction<T>(...)): a receive path that
     # could skip the message check or decode unguarded; bus::subscribe is the one way in.
     'lcm-subscribe': re.compile(r'(\.|->)\s*subscribe(Function)?\s*(<[^<>()]*>)?\s*\('),
+    # A shape of the geometry world made (GeometryObject g; GeometryObject{...}; a vector of them
+    # filled): one geometry model, built in one place, which the contact layer, the proxy and the
+    # obstacle monitor index into. A reference (const GeometryObject& g) is reading, not making.
+    'make-geometry-object': re.compile(
+        r'\bGeometryObject\s*(\{|\(\s*\)|[A-Za-z_]\w*\s*[;{(=])|(push|emplace)_back\s*\(\s*GeometryObject\b'),
 }
 
 

@@ -3,22 +3,21 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/geometry/shape_bounds.h"
 #include "core/geometry/shape_contact.h"
 
 namespace igms {
 
 ContactDetection::ContactDetection(const ContactModel& model)
-    : cm_(model), broad_phase_(static_cast<int>(model.geoms().size())) {
-  const auto& g = cm_.geoms();
-  pose_.resize(g.size());
+    : cm_(model), broad_phase_(model.size()) {
+  const auto& g = cm_.geometry().objects();
   box_.resize(g.size());
   wide_.resize(g.size());
   centre_.resize(g.size());
   built_centre_.resize(g.size());
   reach_.resize(g.size());
   for (size_t k = 0; k < g.size(); ++k) {
-    reach_[k] = boundingRadius(*g[k].shape);
+    reach_[k] = g[k].radius;
+    if (!g[k].collides) continue;  // a ghost, a mesh without samples
     if (g[k].plane) planes_.push_back(static_cast<int>(k));
     else solids_.push_back(static_cast<int>(k));
     if (g[k].body >= 0 && !g[k].plane) moving_.push_back(static_cast<int>(k));
@@ -38,13 +37,11 @@ ContactDetection::ContactDetection(const ContactModel& model)
   skin_ = std::max(cm_.settings().margin, std::isfinite(median) ? 0.1 * median : 0.0);
 }
 
-void ContactDetection::place(const Data& data) {
-  const auto& geoms = cm_.geoms();
+void ContactDetection::place(const GeometryData& placed) {
+  pose_ = placed.oMg.data();
   const double margin = cm_.settings().margin;
-  for (size_t k = 0; k < geoms.size(); ++k) {
-    const Geom& g = geoms[k];
-    pose_[k] = g.body < 0 ? g.placement : data.oMi[static_cast<size_t>(g.body)] * g.placement;
-    if (g.plane) continue;
+  for (int k : solids_) {
+    const GeometryObject& g = cm_.geom(k);
     const Matrix3& R = pose_[k].R;
     const Vector3 centre = pose_[k].act(g.box_centre);
     const Vector3 half = R.cwiseAbs() * g.box_half + Vector3::Constant(0.5 * margin);
@@ -104,8 +101,8 @@ bool ContactDetection::nearListHolds() const {
   return std::sqrt(first) + std::sqrt(second) <= skin_;
 }
 
-void ContactDetection::detect(const Data& data, ContactSet& out) {
-  place(data);
+void ContactDetection::detect(const GeometryData& placed, ContactSet& out) {
+  place(placed);
   broadPhase();
   planeCandidates();
   narrowPhase(out);
@@ -151,8 +148,8 @@ void ContactDetection::planeCandidates() {
   const double margin = cm_.settings().margin;
   int nplanar = 0;
   for (int p : planes_) {
-    const Vector3 n = pose_[static_cast<size_t>(p)].R.col(2);
-    const double offset = n.dot(pose_[static_cast<size_t>(p)].p);
+    const Vector3 n = pose_[p].R.col(2);
+    const double offset = n.dot(pose_[p].p);
     for (int k : moving_) {
       const Aabb& b = box_[static_cast<size_t>(k)];
       const Vector3 centre = 0.5 * (b.lo + b.hi), half = 0.5 * (b.hi - b.lo);
@@ -174,14 +171,13 @@ void ContactDetection::planeCandidates() {
 }
 
 void ContactDetection::narrowPhase(ContactSet& out) const {
-  const auto& geoms = cm_.geoms();
   const double margin = cm_.settings().margin;
   out.n = 0;
   ContactPoint pts[kMaxPairPoints];
   for (int k = 0; k < npairs_; ++k) {
     const auto [i, j] = pairs_[static_cast<size_t>(k)];
-    const Geom &a = geoms[static_cast<size_t>(i)], &b = geoms[static_cast<size_t>(j)];
-    const int n = shapeContacts(*a.shape, pose_[static_cast<size_t>(i)], *b.shape, pose_[static_cast<size_t>(j)], margin, pts);
+    const GeometryObject &a = cm_.geom(i), &b = cm_.geom(j);
+    const int n = shapeContacts(*a.shape, pose_[i], *b.shape, pose_[j], margin, pts);
     if (n == 0) continue;
     const Material m = combine(cm_.material(a.material), cm_.material(b.material));
     for (int s = 0; s < n; ++s) {

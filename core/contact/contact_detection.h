@@ -17,7 +17,7 @@
 #include "core/contact/broad_phase.h"
 #include "core/contact/contact_model.h"
 #include "core/contact/contact_set.h"
-#include "core/model/data.h"
+#include "core/geometry/geometry_model.h"
 
 namespace igms {
 
@@ -25,9 +25,9 @@ class ContactDetection {
  public:
   explicit ContactDetection(const ContactModel& model);
 
-  // The contacts at the poses in data.oMi (bodyKinematics at the step's start), into out
-  // (cleared first; what does not fit is counted in out.dropped).
-  void detect(const Data& data, ContactSet& out);
+  // The contacts with the geometry placed at the step's start, into out (cleared first; what does not
+  // fit is counted in out.dropped). Pairs name geoms by their geometry object's index.
+  void detect(const GeometryData& placed, ContactSet& out);
 
   int64_t candidatePairsDropped() const { return pairs_dropped_; }
   // How many times the list of near pairs was rebuilt (the broad phase run).
@@ -36,8 +36,8 @@ class ContactDetection {
 
  private:
   // The stages of detect(), in order.
-  // The geoms' world poses, boxes and bounding-sphere centres at data.oMi.
-  void place(const Data& data);
+  // The geoms' boxes and bounding-sphere centres, at their placed poses.
+  void place(const GeometryData& placed);
   // The candidate pairs among the solids, by pair: from the near list (rebuilt first if it no longer
   // holds), or straight from the broad phase when the list cannot be held.
   void broadPhase();
@@ -53,7 +53,7 @@ class ContactDetection {
   bool nearListHolds() const;
 
   const ContactModel& cm_;
-  std::vector<SE3> pose_;           // per geom, world
+  const SE3* pose_ = nullptr;       // per geom, world: the step's GeometryData
   std::vector<Aabb> box_;           // per geom, world, grown by the margin
   std::vector<Vector3> centre_;     // per geom, world: its bounding box's centre
   std::vector<double> reach_;       // per geom: a sphere about that centre that holds the shape

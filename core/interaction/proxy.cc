@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "core/geometry/point_query.h"
-#include "core/geometry/shape_bounds.h"
 
 namespace igms {
 
@@ -12,17 +11,6 @@ namespace {
 
 constexpr double kTouchSlop = 1e-6;  // m: resting on a surface within this counts as touching it
 constexpr double kStopped = 1e-12;   // m: a move shorter than this is none
-
-TouchGeom makeGeom(const CollisionShape& shape, const std::string& name) {
-  TouchGeom g;
-  g.shape = &shape;
-  g.name = name;
-  g.plane = shape.kind == CollisionShape::Kind::Plane;
-  Vector3 half;
-  boundingBox(shape, g.centre, half);
-  g.bound = half.norm();
-  return g;
-}
 
 // The direction the proxy may move toward `goal` without entering the shapes it rests on (normals n):
 // the goal's part along the surface, along an edge where two meet, none in a corner.
@@ -61,65 +49,39 @@ Vector3 constrainMove(const Vector3& delta, const std::array<ProxyTouch, Proxy::
 
 }  // namespace
 
-TouchWorld::TouchWorld(const Model& model) {
-  for (size_t f = 0; f < model.frames.size(); ++f) {
-    const Frame& fr = model.frames[f];
-    for (const CollisionShape& shape : fr.collisions) {
-      if (shape.kind == CollisionShape::Kind::Mesh && !shape.field) continue;  // nothing to query
-      TouchGeom g = makeGeom(shape, fr.name);
-      g.frame = static_cast<int>(f);
-      g.movable = fr.body >= 0;
-      g.placement = shape.placement;
-      geoms_.push_back(g);
-    }
-  }
-}
-
-void TouchWorld::addFixed(const std::string& name, const CollisionShape& shape) {
-  if (shape.kind == CollisionShape::Kind::Mesh && !shape.field) return;
-  own_.push_back(std::make_unique<CollisionShape>(shape));
-  TouchGeom g = makeGeom(*own_.back(), name);
-  g.placement = shape.placement;
-  geoms_.push_back(g);
-}
-
-SE3 TouchWorld::pose(int g, const std::vector<SE3>& frame_poses) const {
-  const TouchGeom& t = geoms_[static_cast<size_t>(g)];
-  return t.frame >= 0 ? frame_poses[static_cast<size_t>(t.frame)] * t.placement : t.placement;
-}
-
-void Proxy::gatherCandidates(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& centre,
+void Proxy::gatherCandidates(const GeometryModel& geometry, const GeometryData& placed, const Vector3& centre,
                              double reach) {
   ncandidates_ = 0;
-  const auto& geoms = world.geoms();
+  const auto& geoms = geometry.objects();
   for (size_t g = 0; g < geoms.size() && g < candidates_.size(); ++g) {
-    const TouchGeom& t = geoms[g];
+    const GeometryObject& t = geoms[g];
+    if (!t.touchable) continue;
     if (!t.plane) {
-      const Vector3 c = world.pose(static_cast<int>(g), frame_poses).act(t.centre);
-      if ((c - centre).norm() > t.bound + reach) continue;
+      const Vector3 c = placed.oMg[g].act(t.box_centre);
+      if ((c - centre).norm() > t.radius + reach) continue;
     }
     candidates_[static_cast<size_t>(ncandidates_++)] = static_cast<int>(g);
   }
 }
 
-bool Proxy::centreInside(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
-  const auto& geoms = world.geoms();
+bool Proxy::centreInside(const GeometryModel& geometry, const GeometryData& placed, double radius) {
+  const auto& geoms = geometry.objects();
   for (int k = 0; k < ncandidates_; ++k) {
     const int g = candidates_[static_cast<size_t>(k)];
-    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, placed.oMg[static_cast<size_t>(g)], p_, 2.0 * radius);
     if (q.valid && q.distance < -kTouchSlop) return true;
   }
   return false;
 }
 
-void Proxy::depenetrate(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
-  const auto& geoms = world.geoms();
+void Proxy::depenetrate(const GeometryModel& geometry, const GeometryData& placed, double radius) {
+  const auto& geoms = geometry.objects();
   for (int pass = 0; pass < 4; ++pass) {
     double worst = -kTouchSlop;
     PointQuery out;
     for (int k = 0; k < ncandidates_; ++k) {
       const int g = candidates_[static_cast<size_t>(k)];
-      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, placed.oMg[static_cast<size_t>(g)], p_, 2.0 * radius);
       if (!q.valid) continue;
       const double gap = q.distance - radius;
       if (gap < worst) {
@@ -132,18 +94,18 @@ void Proxy::depenetrate(const TouchWorld& world, const std::vector<SE3>& frame_p
   }
 }
 
-void Proxy::collectTouches(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius) {
+void Proxy::collectTouches(const GeometryModel& geometry, const GeometryData& placed, double radius) {
   ntouches_ = 0;
-  const auto& geoms = world.geoms();
+  const auto& geoms = geometry.objects();
   for (int k = 0; k < ncandidates_ && ntouches_ < kMaxTouches; ++k) {
     const int g = candidates_[static_cast<size_t>(k)];
-    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), p_, 2.0 * radius);
+    const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, placed.oMg[static_cast<size_t>(g)], p_, 2.0 * radius);
     if (!q.valid || q.distance > radius + kTouchSlop) continue;
     touches_[static_cast<size_t>(ntouches_++)] = ProxyTouch{g, q.normal, q.surface};
   }
 }
 
-void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& device, double radius,
+void Proxy::update(const GeometryModel& geometry, const GeometryData& placed, const Vector3& device, double radius,
                    bool free_hold) {
   if (free_hold) {
     last_device_ = device;
@@ -162,27 +124,27 @@ void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses,
   // radius. One gather serves the check below and the move (a superset of what the check needs).
   const double travel = std::min((device - p_).norm(), kMaxSubsteps * step);
   if (!free_) {
-    gatherCandidates(world, frame_poses, p_, travel + 2.0 * radius);
-    if (jumped || centreInside(world, frame_poses, radius)) release();
+    gatherCandidates(geometry, placed, p_, travel + 2.0 * radius);
+    if (jumped || centreInside(geometry, placed, radius)) release();
   }
   if (free_) {
     // Engage where the device is clear of everything, or no deeper than kEngageDepth.
     const double engage = radius - std::min(radius, kEngageDepth) - kTouchSlop;
     p_ = device;
-    gatherCandidates(world, frame_poses, device, radius);
-    const auto& geoms = world.geoms();
+    gatherCandidates(geometry, placed, device, radius);
+    const auto& geoms = geometry.objects();
     for (int k = 0; k < ncandidates_; ++k) {
       const int g = candidates_[static_cast<size_t>(k)];
-      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, world.pose(g, frame_poses), device, 2.0 * radius);
+      const PointQuery q = pointQuery(*geoms[static_cast<size_t>(g)].shape, placed.oMg[static_cast<size_t>(g)], device, 2.0 * radius);
       if (q.valid && q.distance < engage) return;  // deeper: stays free
     }
     free_ = false;
-    depenetrate(world, frame_poses, radius);
-    collectTouches(world, frame_poses, radius);
+    depenetrate(geometry, placed, radius);
+    collectTouches(geometry, placed, radius);
     return;
   }
-  depenetrate(world, frame_poses, radius);  // what moved into it since the last cycle
-  collectTouches(world, frame_poses, radius);
+  depenetrate(geometry, placed, radius);  // what moved into it since the last cycle
+  collectTouches(geometry, placed, radius);
   int s = 0;
   for (; s < kMaxSubsteps; ++s) {
     const Vector3 goal = device - p_;
@@ -200,18 +162,18 @@ void Proxy::update(const TouchWorld& world, const std::vector<SE3>& frame_poses,
     if (len < kStopped) break;
     if (len > step) move *= step / len;
     p_ += move;
-    depenetrate(world, frame_poses, radius);
-    collectTouches(world, frame_poses, radius);
+    depenetrate(geometry, placed, radius);
+    collectTouches(geometry, placed, radius);
   }
   if (s == kMaxSubsteps) ++substep_limited_;
 }
 
-int Proxy::deepest(const TouchWorld& world, const Vector3& device, bool movable_only) const {
+int Proxy::deepest(const GeometryModel& geometry, const Vector3& device, bool movable_only) const {
   int best = -1;
   double depth = 0.0;
   for (int k = 0; k < ntouches_; ++k) {
     const ProxyTouch& t = touches_[static_cast<size_t>(k)];
-    if (movable_only && !world.geoms()[static_cast<size_t>(t.geom)].movable) continue;
+    if (movable_only && geometry.object(t.geom).body < 0) continue;
     const double d = (p_ - device).dot(t.normal);
     if (d > depth) {
       depth = d;
@@ -221,16 +183,16 @@ int Proxy::deepest(const TouchWorld& world, const Vector3& device, bool movable_
   return best;
 }
 
-int Proxy::nearestMovable(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius,
+int Proxy::nearestMovable(const GeometryModel& geometry, const GeometryData& placed, double radius,
                           double reach) const {
   if (free_) return -1;
   int best = -1;
   double nearest = radius + reach;
   for (int k = 0; k < ncandidates_; ++k) {
     const int g = candidates_[static_cast<size_t>(k)];
-    const TouchGeom& t = world.geoms()[static_cast<size_t>(g)];
-    if (!t.movable) continue;
-    const PointQuery q = pointQuery(*t.shape, world.pose(g, frame_poses), p_, nearest);
+    const GeometryObject& t = geometry.object(g);
+    if (t.body < 0) continue;
+    const PointQuery q = pointQuery(*t.shape, placed.oMg[static_cast<size_t>(g)], p_, nearest);
     if (q.valid && q.distance < nearest) {
       nearest = q.distance;
       best = g;

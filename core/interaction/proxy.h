@@ -30,41 +30,11 @@
 #pragma once
 
 #include <array>
-#include <memory>
-#include <string>
 #include <vector>
 
-#include "core/model/model.h"
+#include "core/geometry/geometry_model.h"
 
 namespace igms {
-
-// One shape the tip can touch.
-struct TouchGeom {
-  const CollisionShape* shape = nullptr;
-  int frame = -1;        // the model frame that carries it; -1: the scene's own (a solid obstacle, the ground)
-  bool movable = false;  // on a body that moves (a robot link, a free body): a push acts on it
-  SE3 placement;         // in the frame; the scene's own: its world pose
-  Vector3 centre = Vector3::Zero();  // bounding sphere, shape frame (a plane has none)
-  double bound = 0.0;
-  bool plane = false;
-  std::string name;      // the frame's or the scene's name for it
-};
-
-// Everything the tip can touch: the model's frames with collision shapes (moving, or fixed to the
-// world) and the scene's solid geometry. Immutable once built.
-class TouchWorld {
- public:
-  explicit TouchWorld(const Model& model);
-  // A shape fixed in the world (shape.placement: its world pose), e.g. a solid obstacle or the ground.
-  void addFixed(const std::string& name, const CollisionShape& shape);
-  const std::vector<TouchGeom>& geoms() const { return geoms_; }
-  // The world pose of geom g given every frame's world pose.
-  SE3 pose(int g, const std::vector<SE3>& frame_poses) const;
-
- private:
-  std::vector<std::unique_ptr<CollisionShape>> own_;  // the scene's shapes (stable addresses)
-  std::vector<TouchGeom> geoms_;
-};
 
 // One shape the proxy rests on.
 struct ProxyTouch {
@@ -81,13 +51,14 @@ class Proxy {
   static constexpr double kEngageDepth = 0.005;  // m (or the radius, if smaller): a free proxy engages no deeper
 
   Proxy() = default;
-  // friction: the cone's coefficient (0: frictionless).
-  explicit Proxy(const TouchWorld& world, double friction = 0.0)
-      : candidates_(world.geoms().size()), friction_(friction) {}
+  // The tip touches the geometry's touchable objects (solid, a mesh with its field). friction: the
+  // cone's coefficient (0: frictionless).
+  explicit Proxy(const GeometryModel& geometry, double friction = 0.0)
+      : candidates_(static_cast<size_t>(geometry.size())), friction_(friction) {}
 
-  // One cycle: the proxy toward `device` (radius `radius`) against the shapes at `frame_poses`.
+  // One cycle: the proxy toward `device` (radius `radius`) against the geometry as `placed`.
   // free_hold: a pull holds (the proxy is the device).
-  void update(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& device, double radius,
+  void update(const GeometryModel& geometry, const GeometryData& placed, const Vector3& device, double radius,
               bool free_hold);
   // Free from here on until the device comes out (a lost server: a push must start at the surface again).
   void release() {
@@ -101,22 +72,21 @@ class Proxy {
   const ProxyTouch& touch(int k) const { return touches_[static_cast<size_t>(k)]; }
   // The touch the device is deepest behind (largest (p - device).n, > 0), -1: none; movable_only: among
   // the shapes on moving bodies.
-  int deepest(const TouchWorld& world, const Vector3& device, bool movable_only) const;
+  int deepest(const GeometryModel& geometry, const Vector3& device, bool movable_only) const;
   // Among the shapes near the proxy (its last update's candidates), the nearest on a moving body within
   // `reach` of its surface: where a push would begin within the step. -1: none, or the proxy is free.
-  int nearestMovable(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius, double reach) const;
+  int nearestMovable(const GeometryModel& geometry, const GeometryData& placed, double radius, double reach) const;
   // The spring's stretch the hand feels: p - device while touching, else zero.
   Vector3 stretch(const Vector3& device) const;
   // Cycles the substep budget ran out before the proxy reached its goal (it catches up next cycle).
   int64_t substepLimited() const { return substep_limited_; }
 
  private:
-  void gatherCandidates(const TouchWorld& world, const std::vector<SE3>& frame_poses, const Vector3& centre,
-                        double reach);
+  void gatherCandidates(const GeometryModel& geometry, const GeometryData& placed, const Vector3& centre, double reach);
   // Pushes p out of every candidate it overlaps (a few passes); collects what it rests on.
-  void depenetrate(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius);
-  bool centreInside(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius);
-  void collectTouches(const TouchWorld& world, const std::vector<SE3>& frame_poses, double radius);
+  void depenetrate(const GeometryModel& geometry, const GeometryData& placed, double radius);
+  bool centreInside(const GeometryModel& geometry, const GeometryData& placed, double radius);
+  void collectTouches(const GeometryModel& geometry, const GeometryData& placed, double radius);
 
   Vector3 p_ = Vector3::Zero();
   bool free_ = true;

@@ -255,6 +255,24 @@ void resolvePull(ResolvedScene& r) {
 
 }  // namespace
 
+namespace {
+
+// The shapes the scene holds itself: its obstacles (solid and ghost, in its order), then the ground.
+std::vector<SceneShape> sceneShapes(const ResolvedScene& r) {
+  const Scene& s = r.scene;
+  std::vector<SceneShape> shapes;
+  for (const Obstacle& o : s.obstacles) shapes.push_back(SceneShape{o.name, o.shape, r.materialIndex(o.material), o.solid});
+  if (s.ground.enabled) {
+    CollisionShape plane;
+    plane.kind = CollisionShape::Kind::Plane;
+    plane.placement = s.ground.pose;
+    shapes.push_back(SceneShape{"ground", plane, r.materialIndex(s.ground.material), true});
+  }
+  return shapes;
+}
+
+}  // namespace
+
 ResolvedScene resolveScene(const Scene& scene) {
   ResolvedScene r;
   r.scene = scene;
@@ -277,24 +295,12 @@ ResolvedScene resolveScene(const Scene& scene) {
   resolveBodies(r);
   normalizeConfiguration(m, r.q0);
   resolvePull(r);
+  r.geometry = std::make_shared<const GeometryModel>(m, r.part_material, sceneShapes(r));
   if (s.integrator == IntegratorKind::Rk4 && s.hasContact())
     throw SceneError(s.source + ": simulation.integrator: rk4 cannot take contact (an impulse per step): use "
                      "linearly_implicit or semi_implicit_euler");
   return r;
 }
 
-std::vector<FixedGeom> solidGeometry(const ResolvedScene& r) {
-  const Scene& s = r.scene;
-  std::vector<FixedGeom> fixed;
-  for (const Obstacle& o : s.obstacles)
-    if (o.solid) fixed.push_back(FixedGeom{o.name, o.shape, r.materialIndex(o.material)});
-  if (s.ground.enabled) {
-    CollisionShape plane;
-    plane.kind = CollisionShape::Kind::Plane;
-    plane.placement = s.ground.pose;
-    fixed.push_back(FixedGeom{"ground", plane, r.materialIndex(s.ground.material)});
-  }
-  return fixed;
-}
 
 }  // namespace igms

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/contact/contact_model.h"
+#include "core/geometry/geometry_model.h"
 #include "core/scene/scene.h"
 
 namespace igms {
@@ -34,13 +34,13 @@ struct ResolvedScene {
   // What the scene cannot do as written, one line each (the programs print them at start): with push
   // on, every moving link with mass but nothing the tip can touch; mimic joints treated as independent.
   std::vector<std::string> warnings;
+  // The geometry world (core/geometry/geometry_model.h): the model's collision shapes, then the
+  // scene's obstacles in its order (solid and ghost) and the ground. What the contact layer, the
+  // hands' proxies and the obstacle monitor all index into.
+  std::shared_ptr<const GeometryModel> geometry;
 
   int materialIndex(const std::string& name) const;  // "" : default
 };
-
-// The scene's solid geometry that the model does not hold: the solid obstacles (in scene order), then
-// the ground. What the contact model and the hand's proxy both touch.
-std::vector<FixedGeom> solidGeometry(const ResolvedScene& r);
 
 // Loads the models and checks the scene against them. Throws SceneError naming
 // the scene file and the key, or ModelError naming the model file.

@@ -40,9 +40,7 @@ CoupledDynamics::CoupledDynamics(const Model& m, const Scene& s, const VectorX& 
   }
   if (contacts && !contacts->empty()) {
     contacts_ = contacts;
-    detection_ = std::make_unique<ContactDetection>(*contacts);
     solver_ = std::make_unique<ContactSolver>(m, *contacts);
-    contact_set_ = ContactSet(contacts->capacity());
   }
 }
 
@@ -52,12 +50,12 @@ const ContactSolveStats& CoupledDynamics::contactStats() const {
 }
 
 void CoupledDynamics::resetContacts() {
-  contact_set_.n = 0;
   if (solver_) solver_->resetWarmStart();
 }
 
-void CoupledDynamics::constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position) {
-  solver_->solve(data_, factored ? *factored : data_.Hfact, h, v0, contact_set_, v, v_position);
+void CoupledDynamics::constrain(const CoupledInputs& in, const VectorX& v0, double h, const TreeMatrix* factored,
+                                VectorX& v, VectorX& v_position) {
+  solver_->solve(data_, factored ? *factored : data_.Hfact, h, v0, *in.contacts, v, v_position);
 }
 
 CoupledEvaluation CoupledDynamics::makeEvaluation() const {
@@ -150,21 +148,20 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
   }
 }
 
-void CoupledDynamics::detectAt(const VectorX& q) {
+void CoupledDynamics::placeGeometry(const VectorX& q, const GeometryModel& geometry, GeometryData& placed) {
   bodyKinematics(model_, data_, q);
-  detection_->detect(data_, contact_set_);
-  detected_ = true;
+  placed.place(geometry, model_, data_);
+  placed_ = true;
 }
 
 void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                                bool step_start) {
   // The couplings and the contacts need world poses; the dynamics then reuse them. At a step's start
-  // the detection stage placed them already, at this q.
+  // the placement stage may have placed them already, at this q.
   const bool placed = in.ncouplings > 0 || (contacts_ && step_start);
-  const bool detected = step_start && detected_;
-  if (step_start) detected_ = false;
-  if (placed && !detected) bodyKinematics(model_, data_, q);
-  if (contacts_ && step_start && !detected) detection_->detect(data_, contact_set_);
+  const bool reuse = step_start && placed_;
+  if (step_start) placed_ = false;
+  if (placed && !reuse) bodyKinematics(model_, data_, q);
   clearExternalForces(fext_);
   if (step_start && !free_bodies_.empty()) {  // a free body a hand acts on takes the integrators' step
     free_bodies_.clearDriven();

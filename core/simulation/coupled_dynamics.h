@@ -16,7 +16,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/contact/contact_detection.h"
+#include "core/contact/contact_set.h"
+#include "core/geometry/geometry_model.h"
 #include "core/contact/contact_solver.h"
 #include "core/dynamics/external_force.h"
 #include "core/integrate/free_body_motion.h"
@@ -83,6 +84,9 @@ struct CoupledInputs {
   const std::vector<DofRange>* hold = nullptr;
   const std::vector<DofRange>* uncommanded = nullptr;
   JointPd pd;
+  // The step's contacts (the detection stage's, at its start state); the contact solve writes their
+  // impulses. Null without contact.
+  ContactSet* contacts = nullptr;
 };
 
 // The user's force at one evaluated state, and its linearisation.
@@ -116,14 +120,11 @@ class CoupledDynamics {
                   const ContactModel* contacts = nullptr);
 
   CoupledEvaluation makeEvaluation() const;
-  // A step's detection stage (Simulation::step calls it before the dynamics): the geoms placed and
-  // the contacts found at q, the step's start state, which the start evaluation then reuses. Without
-  // contact, nothing.
-  void detectContacts(const VectorX& q) {
-    if (contacts_) detectAt(q);
-  }
-  // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau (and
-  // where the contacts are found, unless detectContacts found them: an integrator driven alone).
+  // A step's first stage (Simulation::step calls it before the dynamics): the bodies at q, the step's
+  // start state (which the start evaluation then reuses), and the geometry at them.
+  void placeGeometry(const VectorX& q, const GeometryModel& geometry, GeometryData& placed);
+  // step_start: (q, v) is the step's start state, where in.inverse_dynamics resolves in.tau and the
+  // contact solve acts on in.contacts.
   void evaluate(const CoupledInputs& in, const VectorX& q, const VectorX& v, CoupledEvaluation& out,
                 bool step_start = true);
   // A = H + h D + h^2 K, rhs = h (F - h K v) at `at`, the most recent evaluation; a free body's block
@@ -140,17 +141,15 @@ class CoupledDynamics {
                         std::array<CouplingForce, kMaxHands>& applied) const;
   // The contact step (contact_solver.h) after the unconstrained update: v holds v_free and becomes v+;
   // factored: the matrix the step solved with, factored (null: H's, from the start evaluation).
-  void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position);
+  void constrain(const CoupledInputs& in, const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v,
+                 VectorX& v_position);
   bool hasContacts() const { return contacts_ != nullptr; }
   // With contact, the linearly-implicit step needs H but not its factors: the acceleration a step
   // reports is then the one it applied, (v+ - v) / h, contact included (what a standing robot does,
   // not the free fall its start state alone would give), and evaluate() leaves qdd unset.
   void reportAppliedAcceleration(bool on) { applied_acceleration_ = on; }
-  // The contacts of the last step's start (their impulses from its solve).
-  const ContactSet& contacts() const { return contact_set_; }
   const ContactSolveStats& contactStats() const;
-  // The contact detection (null: no contact step), for its counters.
-  const ContactDetection* contactDetection() const { return detection_.get(); }
+  // Forget the contact solve's warm start (a reset state).
   void resetContacts();
 
   // The evaluator the integrators take (integrators.h): these dynamics with
@@ -170,7 +169,7 @@ class CoupledDynamics {
     }
     bool hasContacts() const { return d_.hasContacts(); }
     void constrain(const VectorX& v0, double h, const TreeMatrix* factored, VectorX& v, VectorX& v_position) {
-      d_.constrain(v0, h, factored, v, v_position);
+      d_.constrain(in_, v0, h, factored, v, v_position);
     }
     FreeBodyMotion* freeBodies() { return &d_.free_bodies_; }
 
@@ -194,11 +193,8 @@ class CoupledDynamics {
   const ContactModel* contacts_ = nullptr;
   FreeBodyMotion free_bodies_;  // the free bodies' own step (a hand's: the integrators')
   bool applied_acceleration_ = false;
-  std::unique_ptr<ContactDetection> detection_;
   std::unique_ptr<ContactSolver> solver_;
-  ContactSet contact_set_;
-  bool detected_ = false;  // detectContacts ran for the step whose start evaluation is next
-  void detectAt(const VectorX& q);
+  bool placed_ = false;  // placeGeometry ran for the step whose start evaluation is next
   Data data_;
   VectorX tau_total_;
   std::vector<Force> fext_;

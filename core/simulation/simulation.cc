@@ -9,7 +9,6 @@
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
 #include "core/scene/trajectory_file.h"
-#include "core/simulation/touch_world_of.h"
 
 namespace igms {
 
@@ -26,8 +25,7 @@ std::unique_ptr<ContactModel> contactModelOf(const ResolvedScene& r) {
   if (!s.hasContact()) return nullptr;
   std::vector<Material> materials;
   for (const std::string& name : r.material_names) materials.push_back(s.materials.at(name));
-  const std::vector<FixedGeom> fixed = solidGeometry(r);
-  auto cm = std::make_unique<ContactModel>(*r.model, r.part_material, fixed, materials, s.contact);
+  auto cm = std::make_unique<ContactModel>(*r.model, *r.geometry, materials, s.contact);
   if (cm->empty()) return nullptr;
   return cm;
 }
@@ -35,11 +33,15 @@ std::unique_ptr<ContactModel> contactModelOf(const ResolvedScene& r) {
 }  // namespace
 
 Simulation::Simulation(ResolvedScene resolved)
-    : resolved_(std::move(resolved)), scene_(resolved_.scene), model_(resolved_.model) {
+    : resolved_(std::move(resolved)), scene_(resolved_.scene), model_(resolved_.model), placed_(*resolved_.geometry) {
   const Model& m = *model_;
   data_ = std::make_unique<Data>(m);
   contact_model_ = contactModelOf(resolved_);
   dynamics_ = std::make_unique<CoupledDynamics>(m, scene_, resolved_.q0, contact_model_.get());
+  if (contact_model_) {
+    detection_ = std::make_unique<ContactDetection>(*contact_model_);
+    contacts_ = ContactSet(contact_model_->capacity());
+  }
   applied_acceleration_ = dynamics_->hasContacts() && scene_.integrator == IntegratorKind::LinearlyImplicit;
   dynamics_->reportAppliedAcceleration(applied_acceleration_);
   v_start_ = VectorX::Zero(m.nv);
@@ -52,10 +54,9 @@ Simulation::Simulation(ResolvedScene resolved)
   }
   environment_ = m.parts.size() > 1;
   robot_held_.assign(controllers_.size(), 0);
-  if (scene_.push.enabled) {
-    touch_world_ = std::make_unique<TouchWorld>(touchWorldOf(resolved_));
-    for (HandTrack& h : hands_) h.proxy = Proxy(*touch_world_, scene_.push.friction);
-  }
+  touch_ = scene_.push.enabled;
+  if (touch_)
+    for (HandTrack& h : hands_) h.proxy = Proxy(geometry(), scene_.push.friction);
   hold_.reserve(controllers_.size());
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
@@ -94,6 +95,7 @@ void Simulation::reset() {
   forces_clamped_ = 0;
   edited_.clear();
   for (auto& c : controllers_) c->reset(resolved_.q0);
+  contacts_.n = 0;
   dynamics_->resetContacts();
   gains_ = Coupling{};
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
@@ -122,6 +124,7 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   for (HandTrack& h : hands_) h.restart(h.client());
   std::fill(robot_held_.begin(), robot_held_.end(), interacting ? 1 : 0);
   stall_noted_ = false;
+  contacts_.n = 0;
   dynamics_->resetContacts();
 }
 
@@ -188,7 +191,6 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
   }
   for (HandTrack& h : hands_) h.tick(scene_.dt);  // every hand's ramp runs on whether or not it has an input
   bool any_user = false;
-  bool placed = false;  // link_poses_ at the start state
   ncouplings_ = 0;
   for (int k = 0; k < n; ++k) {
     const InteractionInput& in = inputs.in[static_cast<size_t>(order_[static_cast<size_t>(k)])];
@@ -200,13 +202,7 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
     HandTrack& h = track(in.client);
     if (h.take(in.seq, user, scene_.dt)) ++resume_ramps_;
     // The hand's proxy follows its tip whatever the mode (free while it pulls), against the start state.
-    if (touch_world_) {
-      if (!placed) {
-        linkPoses();
-        placed = true;
-      }
-      h.proxy.update(*touch_world_, link_poses_, in.tip_position, in.tip_radius, in.mode == InteractionMode::Pull);
-    }
+    if (touch_) h.proxy.update(geometry(), placed_, in.tip_position, in.tip_radius, in.mode == InteractionMode::Pull);
     if (!user) continue;
     if (!any_user) outcome_.mode = in.mode;
     any_user = true;
@@ -220,14 +216,14 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
     c.tip_radius = in.tip_radius;
     c.contact_frame = -1;  // the push acts where the server's proxy rests, on something that moves
     c.push_shape = nullptr;
-    if (in.mode == InteractionMode::Push && touch_world_) {
+    if (in.mode == InteractionMode::Push && touch_) {
       // What the proxy rests on; else the moving shape nearest it, which the step's later stages may reach
       // (its depth is then the tip's own, as without a proxy).
-      const int k = h.proxy.deepest(*touch_world_, in.tip_position, true);
+      const int k = h.proxy.deepest(geometry(), in.tip_position, true);
       const int geom = k >= 0 ? h.proxy.touch(k).geom
-                              : h.proxy.nearestMovable(*touch_world_, link_poses_, in.tip_radius, in.tip_radius);
+                              : h.proxy.nearestMovable(geometry(), placed_, in.tip_radius, in.tip_radius);
       if (geom >= 0) {
-        const TouchGeom& g = touch_world_->geoms()[static_cast<size_t>(geom)];
+        const GeometryObject& g = geometry().object(geom);
         c.contact_frame = g.frame;
         c.push_shape = g.shape;
         c.push_placement = g.placement;
@@ -311,14 +307,20 @@ bool Simulation::step(const InteractionInput* input) {
   return step(one_);
 }
 
+void Simulation::placeGeometry(const HandInputs& hands) {
+  if (dynamics_->hasContacts() || (touch_ && hands.n > 0)) dynamics_->placeGeometry(q_, geometry(), placed_);
+}
+
 bool Simulation::step(const HandInputs& hands) {
   if (diverged_) return false;
-  // Controls and hands, then the contacts at the start state, then the dynamics (integrateStep:
-  // the coupled dynamics, their contact solve and the configuration update).
+  // The stages (docs/architecture.md): the geometry placed and the contacts found at the start state,
+  // the controls and the hands, then the dynamics (integrateStep: the coupled dynamics, their contact
+  // solve and the configuration update).
   outcome_ = StepOutcome{};
+  placeGeometry(hands);
+  if (detection_) detection_->detect(placed_, contacts_);
   decideHolds(coupleHands(hands));
   commandRobots();
-  dynamics_->detectContacts(q_);
   // One robot: its hold is b(q, v) (no commanded acceleration). Several: a held robot's share of
   // qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
   CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
@@ -328,6 +330,7 @@ bool Simulation::step(const HandInputs& hands) {
     if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
   }
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
+  if (detection_) inputs.contacts = &contacts_;
   CoupledDynamics::StepEvaluator f = dynamics_->bind(inputs);
   const bool implicit = scene_.integrator == IntegratorKind::LinearlyImplicit;  // applied_acceleration_ implies it
   if (implicit) {
@@ -410,7 +413,7 @@ bool Simulation::checkFinite() {
 }
 
 const Proxy* Simulation::proxyOf(int32_t client) const {
-  if (!touch_world_) return nullptr;
+  if (!touch_) return nullptr;
   for (const HandTrack& h : hands_)
     if (h.client() == client) return &h.proxy;
   return nullptr;
@@ -418,7 +421,7 @@ const Proxy* Simulation::proxyOf(int32_t client) const {
 
 int64_t Simulation::proxySubstepLimited() const {
   int64_t n = 0;
-  if (touch_world_)
+  if (touch_)
     for (const HandTrack& h : hands_) n += h.proxy.substepLimited();
   return n;
 }

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "core/contact/contact_detection.h"
 #include "core/contact/contact_model.h"
 #include "core/integrate/integrators.h"
 #include "core/interaction/proxy.h"
@@ -85,8 +86,11 @@ class Simulation {
   const std::vector<SE3>& linkPoses();
   // Every link's velocity at the current state, world axes (frameVelocities): its origin's and its angular.
   const std::vector<Motion>& linkVelocities();
-  // What the hands' proxies touch (null with push off), and a hand's proxy (null: no such client yet).
-  const TouchWorld* touchWorld() const { return touch_world_.get(); }
+  // The geometry world (every shape the contact, the hands' proxies and the obstacle monitor use), and
+  // its placement at the last step's start (placed only when the step needs it: contact or a hand).
+  const GeometryModel& geometry() const { return *resolved_.geometry; }
+  const GeometryData& placedGeometry() const { return placed_; }
+  // A hand's proxy (null with push off, or no such client yet).
   const Proxy* proxyOf(int32_t client) const;
   // Cycles in which a hand's proxy ran out of its substep budget (it catches up the next), every hand's.
   int64_t proxySubstepLimited() const;
@@ -103,10 +107,10 @@ class Simulation {
   void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
 
   // The contacts at the last step's start, with the impulses its solve gave them (empty without contact).
-  const ContactSet& contacts() const { return dynamics_->contacts(); }
+  const ContactSet& contacts() const { return contacts_; }
   const ContactSolveStats& contactStats() const { return dynamics_->contactStats(); }
   // Its detection (null: no contact): how often its list of near pairs was rebuilt, candidates dropped.
-  const ContactDetection* contactDetection() const { return dynamics_->contactDetection(); }
+  const ContactDetection* contactDetection() const { return detection_.get(); }
   bool hasContacts() const { return dynamics_->hasContacts(); }
   const ContactModel* contactModel() const { return contact_model_.get(); }
   // Interaction gains (push k_p, pull k, pull b; the 6-D pull's k_rot, b_rot), e.g. from a SET_GAINS command.
@@ -135,6 +139,9 @@ class Simulation {
   // (in client-id order; \return whether any pushes or pulls), which robot each hand holds (and a
   // replan for one let go), and each robot's command (the hold's, or its trajectory's or PD's).
   bool coupleHands(const HandInputs& inputs);
+  // The first stage: the bodies and the geometry placed at the start state, when contact or a hand
+  // needs them (the dynamics' start evaluation reuses the bodies' poses).
+  void placeGeometry(const HandInputs& inputs);
   void decideHolds(bool any_user);
   void commandRobots();
   bool checkFinite();
@@ -152,7 +159,10 @@ class Simulation {
   std::array<int, kMaxHands> order_{};  // the step's inputs by client id
   Coupling gains_;                      // the gains every coupling takes
   std::array<HandTrack, kMaxHands> hands_;
-  std::unique_ptr<TouchWorld> touch_world_;  // what the hands' proxies touch (push on)
+  bool touch_ = false;                  // push on: the hands' proxies touch the geometry
+  GeometryData placed_;                 // the geometry at the step's start
+  std::unique_ptr<ContactDetection> detection_;  // null without contact
+  ContactSet contacts_;                 // the step's: found at its start, their impulses from its solve
   std::vector<char> robot_held_;            // per robot: a hand acts on it (an environment's holds)
   HandInputs one_;                      // step(const InteractionInput*)'s set
   double hold_rate_ = 0.0;

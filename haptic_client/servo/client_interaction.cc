@@ -4,13 +4,13 @@
 
 #include "core/interaction/pull.h"
 #include "core/interaction/push.h"
-#include "core/simulation/touch_world_of.h"
 
 namespace igms {
 
 ClientInteraction::ClientInteraction(const ResolvedScene& r)
     : model_(*r.model), scene_(r.scene), pull_frame_(r.pull_frame), attach_frame_(r.pull_frame),
-      attach_point_(r.scene.pull.point), world_(touchWorldOf(r)), proxy_(world_, r.scene.push.friction),
+      attach_point_(r.scene.pull.point), geometry_(r.geometry), placed_(*geometry_),
+      proxy_(*geometry_, r.scene.push.friction),
       last_links_(r.model->frames.size()) {}
 
 void ClientInteraction::setAttachment(int frame, const Vector3& point) {
@@ -115,7 +115,8 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   if (!scene_.push.enabled) return on_user;
   // The proxy follows the tip, free while a pull holds and after one until the tip has come out of
   // what it held (a released hand withdraws through the gripper), as the server's does.
-  proxy_.update(world_, links, tip, scene_.push.tip_radius, pulling_);
+  placed_.place(*geometry_, links);
+  proxy_.update(*geometry_, placed_, tip, scene_.push.tip_radius, pulling_);
   // The spring to the proxy, at the push's stiffness and limit. On something that moves it is eq. (3)'s
   // reaction, along that surface's normal as the server applies c (the proxy's friction is the hand's
   // alone, so it is left out there: what the body gets, the hand feels); on what does not, the whole
@@ -125,10 +126,10 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
   const Vector3 stretch = proxy_.stretch(tip);
   const double dt = estimate_time - last_links_time_;
   const bool moved = last_links_time_ >= 0.0 && dt > 1e-9;
-  const int k = proxy_.deepest(world_, tip, true);
+  const int k = proxy_.deepest(*geometry_, tip, true);
   if (k >= 0) {
     touching_ = true;
-    contact_frame_ = world_.geoms()[static_cast<size_t>(proxy_.touch(k).geom)].frame;
+    contact_frame_ = geometry_->object(proxy_.touch(k).geom).frame;
     const ProxyTouch& touch = proxy_.touch(k);
     const Vector3& n = touch.normal;
     Vector3 surface_velocity = Vector3::Zero();
@@ -147,7 +148,7 @@ Vector3 ClientInteraction::userForce(const std::vector<SE3>& links, double estim
     if (input_.mode != InteractionMode::Push && guard_.armed()) on_user.setZero();
   } else {
     on_user = scene_.push.k_p * stretch;
-    const int w = proxy_.deepest(world_, tip, false);
+    const int w = proxy_.deepest(*geometry_, tip, false);
     if (w >= 0) {  // a wall: its damper along the normal, never pulling the hand in
       const Vector3& n = proxy_.touch(w).normal;
       const double normal = on_user.dot(n);

@@ -4,6 +4,7 @@
 // networked client (igms-haptic) and the in-process scenario runner.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "haptic_client/servo/force_render.h"
@@ -66,7 +67,9 @@ class ClientInteraction {
   void disengagePush() { proxy_.release(); }
   // The tip's proxy (core/interaction/proxy.h) against the estimate: where the scene sees the hand.
   const Proxy& proxy() const { return proxy_; }
-  const TouchWorld& touchWorld() const { return world_; }
+  // The geometry the proxy touches, and where it was placed for the last userForce (the estimate).
+  const GeometryModel& geometry() const { return *geometry_; }
+  const GeometryData& placedGeometry() const { return placed_; }
   // The last input fillInput made, as the server's step will take it (frames, not names).
   const InteractionInput& input() const { return input_; }
   double forceScale() const { return ramp_.scale(); }
@@ -93,7 +96,8 @@ class ClientInteraction {
   Vector3 attach_w_ = Vector3::Zero();             // its angular velocity, differenced and low-passed
   Vector3 torque_on_user_ = Vector3::Zero(), last_torque_ = Vector3::Zero();
   bool pulling_ = false;
-  TouchWorld world_;  // every link, free body, solid obstacle and the ground
+  std::shared_ptr<const GeometryModel> geometry_;  // the scene's (every link, free body, solid obstacle, the ground)
+  GeometryData placed_;                            // at the estimate
   Proxy proxy_;
   bool touching_ = false;  // the proxy rests on something that moves: the input is a push
   int contact_frame_ = -1;

@@ -182,7 +182,7 @@ class PySimulation {
   nb::dict contactColumns() const {
     const ContactSet& set = sim_.hasContacts() ? sim_.contacts() : empty_;
     const Model& model = sim_.model();
-    const std::vector<Geom>* geoms = sim_.contactModel() ? &sim_.contactModel()->geoms() : nullptr;
+    const GeometryModel& geometry = sim_.geometry();
     const size_t n = static_cast<size_t>(set.n);
     std::vector<std::string> body_a(n), body_b(n), geom_a(n), geom_b(n);
     MatrixX point(n, 3), normal(n, 3), impulse(n, 3);
@@ -192,8 +192,8 @@ class PySimulation {
       const Contact& c = set[k];
       body_a[k] = bodyName(c.body_a);
       body_b[k] = bodyName(c.body_b);
-      geom_a[k] = (*geoms)[static_cast<size_t>(c.geom_a)].name;
-      geom_b[k] = (*geoms)[static_cast<size_t>(c.geom_b)].name;
+      geom_a[k] = geometry.object(c.geom_a).name;
+      geom_b[k] = geometry.object(c.geom_b).name;
       point.row(k) = c.point.transpose();
       normal.row(k) = c.normal.transpose();
       impulse.row(k) = c.impulse.transpose();

@@ -64,7 +64,7 @@ struct SceneParts {
       : sim(std::move(s)),
         contact_rows(o.contact_rate > 0 && sim->contactModel() ? sim->contactModel()->capacity() : 0),
         ring(sim->model(), 512, contact_rows),
-        states(bus, sim->model(), sim->scene().obstacles, FaultInjection{o.fault_drop, o.fault_burst_ms, o.fault_delay_us},
+        states(bus, sim->model(), sim->geometry(), FaultInjection{o.fault_drop, o.fault_burst_ms, o.fault_delay_us},
                o.quiet),
         contacts(bus, contact_rows),
         status(bus, *sim, o.clock == ServerOptions::Clock::Lockstep ? "lockstep" : "realtime", receiver, loop, o.quiet,

@@ -43,9 +43,9 @@ std::string stateTooLarge(const Model& m, const std::string& scene) {
          " bytes, " + std::to_string(bus::kTrailerBytes) + " of them the signature's): fewer bodies, or fewer links (fixed joints merge their links' bodies but keep their frames)";
 }
 
-StatePublisher::StatePublisher(bus::SignedPublisher& bus, const Model& m, const std::vector<Obstacle>& obstacles,
+StatePublisher::StatePublisher(bus::SignedPublisher& bus, const Model& m, const GeometryModel& geometry,
                                FaultInjection faults, bool quiet)
-    : bus_(bus), world_(m, obstacles), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
+    : bus_(bus), world_(m, geometry), faults_(faults), quiet_(quiet), stats_(m), fault_epoch_(monotonicSeconds()) {
   msg_ = sizedStateMessage(m);
   buffer_.resize(static_cast<size_t>(msg_.getEncodedSize()) + 64 + bus::kTrailerBytes);  // signed in place
   stats_.step_times_us.reserve(4096);

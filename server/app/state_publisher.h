@@ -54,7 +54,7 @@ std::string stateTooLarge(const Model& model, const std::string& scene);
 
 class StatePublisher {
  public:
-  StatePublisher(bus::SignedPublisher& bus, const Model& model, const std::vector<Obstacle>& obstacles, FaultInjection faults,
+  StatePublisher(bus::SignedPublisher& bus, const Model& model, const GeometryModel& geometry, FaultInjection faults,
                  bool quiet);
   void publish(const Snapshot& s);
   PublishStats& stats() { return stats_; }

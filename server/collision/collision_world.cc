@@ -10,7 +10,7 @@
 namespace igms {
 namespace {
 
-std::shared_ptr<fcl::CollisionGeometryd> geometry(const CollisionShape& s) {
+std::shared_ptr<fcl::CollisionGeometryd> fclShape(const CollisionShape& s) {
   switch (s.kind) {
     case CollisionShape::Kind::Box: return std::make_shared<fcl::Boxd>(s.size[0], s.size[1], s.size[2]);
     case CollisionShape::Kind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]);
@@ -40,24 +40,6 @@ fcl::Transform3d toFcl(const SE3& X) {
   return T;
 }
 
-// Radius of a sphere about the shape's origin that contains it.
-double boundingRadius(const CollisionShape& s) {
-  switch (s.kind) {
-    case CollisionShape::Kind::Box: return 0.5 * s.size.norm();
-    case CollisionShape::Kind::Cylinder: return std::hypot(s.size[0], 0.5 * s.size[1]);
-    case CollisionShape::Kind::Sphere: return s.size[0];
-    case CollisionShape::Kind::Capsule: return s.size[0] + 0.5 * s.size[1];
-    case CollisionShape::Kind::Plane: return 0.0;
-    case CollisionShape::Kind::Mesh: {
-      double r = 0.0;
-      if (s.triangles)
-        for (const Vector3& v : s.triangles->vertices) r = std::max(r, v.norm());
-      return r;
-    }
-  }
-  return 0.0;
-}
-
 constexpr double kTouching = 1e-9;  // m
 
 // The field's signed distance at p is negative: p is inside the mesh.
@@ -66,50 +48,42 @@ bool insideMesh(const CollisionShape& mesh, const SE3& X, const Vector3& p) { re
 }  // namespace
 
 struct CollisionWorld::Impl {
-  struct LinkShape {
-    int frame;
-    SE3 placement;
-    double radius;
-    std::unique_ptr<fcl::CollisionObjectd> object;
-    const CollisionShape* field = nullptr;  // a mesh with its distance field: for the inside test
-  };
-  struct ObstacleShape {
-    std::string name;
-    Vector3 centre;
-    double radius;
-    std::unique_ptr<fcl::CollisionObjectd> object;
+  struct Watched {
+    int object;  // in the geometry model
+    std::unique_ptr<fcl::CollisionObjectd> fcl;
   };
   struct Pair {
     double lower_bound;
     size_t link, obstacle;
   };
+  const GeometryModel& geometry;
+  std::vector<Watched> links, obstacles;
+  std::vector<SE3> link_pose;       // per link, this check's
+  std::vector<Vector3> obstacle_centre;  // per obstacle: its bounding sphere's centre, world
   std::vector<Pair> pairs;
-  const Model& model;
-  std::vector<LinkShape> links;
-  std::vector<ObstacleShape> obstacles;
-  explicit Impl(const Model& m) : model(m) {}
+  explicit Impl(const GeometryModel& g) : geometry(g) {}
 };
 
-CollisionWorld::CollisionWorld(const Model& model, const std::vector<Obstacle>& obstacles)
-    : impl_(std::make_unique<Impl>(model)) {
-  for (size_t f = 0; f < model.frames.size(); ++f) {
-    if (model.frames[f].body < 0) continue;  // fixed to the world (the base): never collides with its surroundings
-    const int part = model.partOfFrame(static_cast<int>(f));
-    if (part >= 0 && model.parts[static_cast<size_t>(part)].free_body) continue;  // the robots' links are watched
-    for (const auto& s : model.frames[f].collisions)
-      if (auto g = geometry(s))
-        impl_->links.push_back({static_cast<int>(f), s.placement, boundingRadius(s),
-                                std::make_unique<fcl::CollisionObjectd>(g),
-                                s.kind == CollisionShape::Kind::Mesh && s.field ? &s : nullptr});
+CollisionWorld::CollisionWorld(const Model& model, const GeometryModel& geometry,
+                               const std::function<bool(const std::string&)>& watched)
+    : impl_(std::make_unique<Impl>(geometry)) {
+  for (int k = 0; k < geometry.size(); ++k) {
+    const GeometryObject& g = geometry.object(k);
+    if (!g.has_volume) continue;
+    if (g.frame >= 0) {
+      // A link fixed to the world (the base) never collides with its surroundings; the free bodies
+      // are not watched, the robots' links are.
+      if (g.body < 0 || (g.part >= 0 && model.parts[static_cast<size_t>(g.part)].free_body)) continue;
+      impl_->links.push_back({k, std::make_unique<fcl::CollisionObjectd>(fclShape(*g.shape))});
+    } else if (!g.solid && (!watched || watched(g.name))) {  // a solid obstacle is touched through contact
+      auto obj = std::make_unique<fcl::CollisionObjectd>(fclShape(*g.shape), toFcl(g.placement));
+      obj->computeAABB();
+      impl_->obstacles.push_back({k, std::move(obj)});
+      impl_->obstacle_centre.push_back(g.placement.act(g.box_centre));
+    }
   }
-  for (const auto& o : obstacles) {
-    if (o.solid) continue;  // a solid obstacle is touched through contact, not watched
-    auto g = geometry(o.shape);
-    if (!g) continue;
-    auto obj = std::make_unique<fcl::CollisionObjectd>(g, toFcl(o.shape.placement));
-    obj->computeAABB();
-    impl_->obstacles.push_back({o.name, o.shape.placement.p, boundingRadius(o.shape), std::move(obj)});
-  }
+  impl_->link_pose.resize(impl_->links.size());
+  impl_->pairs.reserve(impl_->links.size() * impl_->obstacles.size());
 }
 
 CollisionWorld::~CollisionWorld() = default;
@@ -122,36 +96,41 @@ CollisionReport CollisionWorld::check(const std::vector<SE3>& poses) {
   request.enable_signed_distance = false;  // penetration depth (EPA) costs 5-10x; a collision reports <= 0
   // Bounding spheres give a lower bound on each pair's distance: query pairs
   // in that order and stop when no bound can beat the best distance (exact).
+  const GeometryModel& geometry = impl_->geometry;
   auto& pairs = impl_->pairs;
   pairs.clear();
   for (size_t l = 0; l < impl_->links.size(); ++l) {
     auto& link = impl_->links[l];
-    const SE3 X = poses[static_cast<size_t>(link.frame)] * link.placement;
-    link.object->setTransform(toFcl(X));
-    for (size_t o = 0; o < impl_->obstacles.size(); ++o) {
-      const auto& ob = impl_->obstacles[o];
-      pairs.push_back({(X.p - ob.centre).norm() - link.radius - ob.radius, l, o});
-    }
+    const GeometryObject& g = geometry.object(link.object);
+    const SE3& X = impl_->link_pose[l] = geometry.worldPose(link.object, poses);
+    link.fcl->setTransform(toFcl(X));
+    const Vector3 centre = X.act(g.box_centre);
+    for (size_t o = 0; o < impl_->obstacles.size(); ++o)
+      pairs.push_back({(centre - impl_->obstacle_centre[o]).norm() - g.radius -
+                           geometry.object(impl_->obstacles[o].object).radius,
+                       l, o});
   }
   std::sort(pairs.begin(), pairs.end(), [](const Impl::Pair& a, const Impl::Pair& b) { return a.lower_bound < b.lower_bound; });
   for (const Impl::Pair& p : pairs) {
     if (p.lower_bound >= out.min_distance) break;
     auto& l = impl_->links[p.link];
-    auto& o = impl_->obstacles[p.obstacle];
-    l.object->computeAABB();
+    const auto& o = impl_->obstacles[p.obstacle];
+    const GeometryObject &link = geometry.object(l.object), &obstacle = geometry.object(o.object);
+    l.fcl->computeAABB();
     fcl::DistanceResultd result;
-    fcl::distance(l.object.get(), o.object.get(), request, result);
+    fcl::distance(l.fcl.get(), o.fcl.get(), request, result);
     // FCL says -1 for "colliding", and about 1e-322 for a shape cutting a mesh's triangles.
     if (result.min_distance < kTouching) result.min_distance = 0.0;
-    // A mesh's distance is to its triangles: an obstacle whose centre lies inside the mesh (its signed
+    // A mesh's distance is to its triangles: an obstacle whose origin lies inside the mesh (its signed
     // distance field says so) is in collision however far it is from the surface.
-    if (result.min_distance > 0.0 && l.field && insideMesh(*l.field, poses[static_cast<size_t>(l.frame)] * l.placement, o.centre))
+    if (result.min_distance > 0.0 && link.shape->kind == CollisionShape::Kind::Mesh && link.shape->field &&
+        insideMesh(*link.shape, impl_->link_pose[p.link], obstacle.placement.p))
       result.min_distance = 0.0;
     if (result.min_distance < out.min_distance) {
       out.min_distance = result.min_distance;
-      out.closest_link = impl_->model.frames[static_cast<size_t>(l.frame)].name;
-      out.closest_frame = l.frame;
-      out.closest_obstacle = o.name;
+      out.closest_link = link.name;
+      out.closest_frame = link.frame;
+      out.closest_obstacle = obstacle.name;
     }
   }
   out.in_collision = out.min_distance <= 0.0;

@@ -1,13 +1,15 @@
-// Robot links against the scene's obstacles, through FCL: collision and
-// minimum distance, every step. FCL's queries allocate, so this runs beside
+// Robot links against the scene's ghost obstacles (the geometry world's:
+// core/geometry/geometry_model.h), through FCL: collision and minimum
+// distance, every step. FCL's queries allocate, so this runs beside
 // the step (on the publishing thread), never inside it.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "core/scene/scene.h"
+#include "core/geometry/geometry_model.h"
 
 namespace igms {
 
@@ -20,7 +22,10 @@ struct CollisionReport {
 
 class CollisionWorld {
  public:
-  CollisionWorld(const Model& model, const std::vector<Obstacle>& obstacles);
+  // Watches the robots' moving links (not the free bodies') against the geometry's ghost obstacles,
+  // those `watched` names (all without it).
+  CollisionWorld(const Model& model, const GeometryModel& geometry,
+                 const std::function<bool(const std::string& obstacle)>& watched = nullptr);
   ~CollisionWorld();
   bool empty() const;
   // link_poses: world pose of every Model frame.

@@ -104,8 +104,8 @@ inline void takeContacts(const Simulation& sim, Snapshot& s) {
   for (int k = 0; k < s.ncontacts; ++k) {
     const Contact& c = set[k];
     PublishedContact& p = s.contacts[static_cast<size_t>(k)];
-    p.link_a = cm ? cm->geoms()[static_cast<size_t>(c.geom_a)].frame : -1;
-    p.link_b = cm ? cm->geoms()[static_cast<size_t>(c.geom_b)].frame : -1;
+    p.link_a = cm ? cm->geom(c.geom_a).frame : -1;
+    p.link_b = cm ? cm->geom(c.geom_b).frame : -1;
     p.point = c.point;
     p.normal = c.normal;
     p.force = c.impulse * inv_dt;

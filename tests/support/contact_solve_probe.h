@@ -18,6 +18,8 @@ struct ContactSolveProbe {
       : model(sim.model()),
         h(sim.scene().dt),
         data(model),
+        geometry(sim.geometry()),
+        placed(geometry),
         detection(*sim.contactModel()),
         solver(model, *sim.contactModel()),
         set(sim.contactModel()->capacity()),
@@ -32,6 +34,8 @@ struct ContactSolveProbe {
   const Model& model;
   double h;
   Data data;
+  const GeometryModel& geometry;
+  GeometryData placed;
   ContactDetection detection;
   ContactSolver solver;
   ContactSet set;
@@ -40,7 +44,8 @@ struct ContactSolveProbe {
  private:
   bool run(const VectorX& q, const VectorX& v0, const VectorX* given) {
     EXPECT_TRUE(forwardDynamics(model, data, q, v0, VectorX::Zero(model.nv)));
-    detection.detect(data, set);
+    placed.place(geometry, model, data);
+    detection.detect(placed, set);
     if (set.n == 0) return false;
     v_free = given ? *given : VectorX(v0 + h * data.qdd);
     v = v_free;

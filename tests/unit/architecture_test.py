@@ -50,10 +50,17 @@ def main():
                   'may not make the call lcm-subscribe')
     expect_broken({**ok, 'web/x.cc': 'auto* s = lcm_->subscribeFunction<F*>(".*", &F::on, this);\n'},
                   'may not make the call lcm-subscribe')
+    # The geometry world's shapes are made in core/geometry alone; the others read them by reference.
+    expect_broken({**ok, 'core/contact/x.cc': 'GeometryObject g;\n'}, 'may not make the call make-geometry-object')
+    expect_broken({**ok, 'server/collision/x.cc': 'objects.push_back(GeometryObject{s, "link"});\n'},
+                  'may not make the call make-geometry-object')
+    code, out = run(tree({**ok, 'core/geometry/x.cc': 'GeometryObject g = objectOf(s, name);\n',
+                          'core/interaction/y.cc': 'const GeometryObject& t = geometry.object(g);\n'}))
+    assert code == 0, 'core/geometry making a GeometryObject, or a layer reading one, were reported broken:\n' + out
     code, out = run(tree({**ok, 'bus/x.h': 'lcm_.subscribeFunction<R*>(c, &R::arrived, this);\n',
                           'server/y.cc': 'auto in = bus::subscribe<haptic_input_t>(lc, v, "C", h);\n'}))
     assert code == 0, 'bus/ calling LCM, and a program calling bus::subscribe, were reported broken:\n' + out
-    print('architecture_test: 12 passed, 0 failed')
+    print('architecture_test: 15 passed, 0 failed')
 
 
 if __name__ == '__main__':

@@ -56,12 +56,13 @@ struct Found {
   double distance;
 };
 
-// shapeContacts over every pair that may touch, in order by pair.
+// shapeContacts over every pair that may touch, in order by pair (the frames' poses from forward
+// kinematics, data.oMf).
 std::vector<Found> everyPair(const ContactModel& cm, const Data& data) {
-  const auto& geoms = cm.geoms();
+  const auto& geoms = cm.geometry().objects();
   std::vector<SE3> pose(geoms.size());
   for (size_t k = 0; k < geoms.size(); ++k)
-    pose[k] = geoms[k].body < 0 ? geoms[k].placement : data.oMi[static_cast<size_t>(geoms[k].body)] * geoms[k].placement;
+    pose[k] = geoms[k].frame < 0 ? geoms[k].placement : data.oMf[static_cast<size_t>(geoms[k].frame)] * geoms[k].placement;
   std::vector<Found> out;
   ContactPoint pts[kMaxPairPoints];
   for (size_t i = 0; i < geoms.size(); ++i)
@@ -86,12 +87,14 @@ struct Detecting {
   // The contacts at q.
   void detectAt(const VectorX& q) {
     forwardKinematics(model, data, q);
-    detection.detect(data, set);
+    placed.place(sim.geometry(), model, data);
+    detection.detect(placed, set);
   }
   Simulation sim;
   const Model& model;
   const ContactModel& cm;
   Data data;
+  GeometryData placed{sim.geometry()};
   ContactDetection detection;
   ContactSet set;
 };

@@ -125,13 +125,14 @@ TEST(Environment, FreeBodiesTakeTheirInertiaFromTheirShape) {
 
 TEST(Environment, ARobotsOwnLinksTouchOnlyWhenAskedAndNeverNextToEachOther) {
   const ResolvedScene r = resolveScene(shipped("go1_stand.yaml"));
-  const ContactModel off(*r.model, r.part_material, {}, {Material{}}, ContactSettings{});
+  const GeometryModel robot(*r.model, r.part_material, {});  // the robot's links alone: no ground
+  const ContactModel off(*r.model, robot, {Material{}}, ContactSettings{});
   ContactSettings on;
   on.self_collision = true;
-  const ContactModel self(*r.model, r.part_material, {}, {Material{}}, on);
+  const ContactModel self(*r.model, robot, {Material{}}, on);
   const Model& m = *r.model;
   int pairs_off = 0, pairs_on = 0, adjacent = 0;
-  const auto& g = off.geoms();
+  const auto& g = robot.objects();
   for (int i = 0; i < static_cast<int>(g.size()); ++i)
     for (int j = i + 1; j < static_cast<int>(g.size()); ++j) {
       pairs_off += off.canTouch(i, j);

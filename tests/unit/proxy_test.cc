@@ -12,7 +12,6 @@
 #include "core/interaction/proxy.h"
 #include "core/model/environment_model.h"
 #include "core/simulation/simulation.h"
-#include "core/simulation/touch_world_of.h"
 #include "tests/support/malloc_counter.h"
 #include "tests/support/test_models.h"
 
@@ -30,18 +29,24 @@ CollisionShape shape(CollisionShape::Kind kind, const Vector3& size, const SE3& 
 }
 
 // A world of fixed shapes only (no model frames).
+std::vector<SceneShape> named(const std::vector<CollisionShape>& shapes) {
+  std::vector<SceneShape> out;
+  for (size_t k = 0; k < shapes.size(); ++k) out.push_back(SceneShape{"shape" + std::to_string(k), shapes[k], 0, true});
+  return out;
+}
+
 struct FixedWorld {
   Model model = emptyEnvironment("proxy_test", "proxy_test", Vector3::Zero());
-  TouchWorld world{model};
-  std::vector<SE3> poses;
-  explicit FixedWorld(const std::vector<CollisionShape>& shapes) {
-    for (size_t k = 0; k < shapes.size(); ++k) world.addFixed("shape" + std::to_string(k), shapes[k]);
+  GeometryModel world;
+  GeometryData placed{world};
+  explicit FixedWorld(const std::vector<CollisionShape>& shapes) : world(model, {}, named(shapes)) {
+    placed.place(world, std::vector<SE3>{});
   }
   // The proxy's distance to the nearest shape's surface (negative: inside).
   double clearance(const Proxy& p) const {
     double d = 1e9;
-    for (int g = 0; g < static_cast<int>(world.geoms().size()); ++g)
-      d = std::min(d, pointQuery(*world.geoms()[static_cast<size_t>(g)].shape, world.pose(g, poses), p.position()).distance);
+    for (int g = 0; g < world.size(); ++g)
+      d = std::min(d, pointQuery(*world.object(g).shape, placed.oMg[static_cast<size_t>(g)], p.position()).distance);
     return d;
   }
 };
@@ -57,7 +62,7 @@ Drag drag(FixedWorld& w, Proxy& p, const Vector3& from, const Vector3& to, const
   const int n = static_cast<int>(std::ceil((to - from).norm() / 0.0005));
   for (int k = 0; k <= n; ++k) {
     const Vector3 device = from + (to - from) * (static_cast<double>(k) / n);
-    p.update(w.world, w.poses, device, kRadius, false);
+    p.update(w.world, w.placed, device, kRadius, false);
     out.min_clearance = std::min(out.min_clearance, w.clearance(p));
     if (p.touches() > 0) {
       out.touched = true;
@@ -109,11 +114,11 @@ TEST(Proxy, WithFrictionTheWallsForceIsOnTheConesEdgeWhileItSlides) {
   FixedWorld w({shape(CollisionShape::Kind::Plane, Vector3::Zero())});
   const double mu = 0.5;
   Proxy p(w.world, mu);
-  for (int k = 0; k <= 100; ++k) p.update(w.world, w.poses, Vector3(0, 0, 0.05 - 0.001 * k), kRadius, false);
+  for (int k = 0; k <= 100; ++k) p.update(w.world, w.placed, Vector3(0, 0, 0.05 - 0.001 * k), kRadius, false);
   const Vector3 stuck = p.position();
-  p.update(w.world, w.poses, Vector3(0.01, 0, -0.05), kRadius, false);  // 1 cm aside, 6 cm deep: inside the cone
+  p.update(w.world, w.placed, Vector3(0.01, 0, -0.05), kRadius, false);  // 1 cm aside, 6 cm deep: inside the cone
   EXPECT_EQ(p.position(), stuck) << "static: it sticks";
-  for (int k = 0; k <= 200; ++k) p.update(w.world, w.poses, Vector3(0.01 + 0.0005 * k, 0, -0.05), kRadius, false);
+  for (int k = 0; k <= 200; ++k) p.update(w.world, w.placed, Vector3(0.01 + 0.0005 * k, 0, -0.05), kRadius, false);
   const Vector3 f = p.stretch(Vector3(0.11, 0, -0.05));  // sliding: tangential = mu * normal, against the motion
   EXPECT_NEAR(f.z(), 0.06, 1e-12);
   EXPECT_NEAR(-f.x(), mu * f.z(), 1e-9);
@@ -124,12 +129,12 @@ TEST(Proxy, OnTheGroundItSlidesWithTheDeviceAndTheForceIsTheWalls) {
   CollisionShape ground = shape(CollisionShape::Kind::Plane, Vector3::Zero());
   FixedWorld w({ground});
   Proxy p(w.world);
-  p.update(w.world, w.poses, Vector3(0, 0, 0.05), kRadius, false);
-  for (int k = 0; k <= 100; ++k) p.update(w.world, w.poses, Vector3(0, 0, 0.05 - 0.001 * k), kRadius, false);
+  p.update(w.world, w.placed, Vector3(0, 0, 0.05), kRadius, false);
+  for (int k = 0; k <= 100; ++k) p.update(w.world, w.placed, Vector3(0, 0, 0.05 - 0.001 * k), kRadius, false);
   // 4.5 cm below the floor, then along it, then diagonally.
   for (int k = 0; k <= 200; ++k) {
     const Vector3 device(0.001 * k, 0.0005 * k, -0.045);
-    p.update(w.world, w.poses, device, kRadius, false);
+    p.update(w.world, w.placed, device, kRadius, false);
     ASSERT_EQ(p.touches(), 1);
     EXPECT_LE((p.position() - Vector3(device.x(), device.y(), kRadius)).norm(), 1e-12) << k;
     EXPECT_LE((p.stretch(device) - Vector3(0, 0, 0.055)).norm(), 1e-12) << "normal, and the device's depth";
@@ -145,14 +150,14 @@ TEST(Proxy, ACycleCutShortByTheSubstepBudgetIsCountedAndCaughtUpNext) {
   constexpr double r = 0.002, per_cycle = Proxy::kMaxSubsteps * 0.5 * r;  // 16 mm
   FixedWorld w({shape(CollisionShape::Kind::Plane, Vector3::Zero())});
   Proxy p(w.world);
-  p.update(w.world, w.poses, Vector3(0, 0, 0.01), r, false);
-  for (int k = 0; k <= 15; ++k) p.update(w.world, w.poses, Vector3(0, 0, 0.01 - 0.001 * k), r, false);
+  p.update(w.world, w.placed, Vector3(0, 0, 0.01), r, false);
+  for (int k = 0; k <= 15; ++k) p.update(w.world, w.placed, Vector3(0, 0, 0.01 - 0.001 * k), r, false);
   ASSERT_EQ(p.touches(), 1);
   EXPECT_EQ(p.substepLimited(), 0);
   const Vector3 device(0.04, 0.0, -0.005);
   const double expect_x[] = {per_cycle, 2 * per_cycle, 0.04};
   for (int cycle = 0; cycle < 3; ++cycle) {
-    p.update(w.world, w.poses, device, r, false);
+    p.update(w.world, w.placed, device, r, false);
     EXPECT_NEAR(p.position().x(), expect_x[cycle], 1e-9) << "cycle " << cycle;
     EXPECT_NEAR(p.position().z(), r, 1e-12);
     EXPECT_EQ(p.substepLimited(), std::min(cycle + 1, 2)) << "cycle " << cycle;
@@ -177,25 +182,28 @@ TEST(Proxy, InAnInsideCornerItStopsAndNeverEnters) {
 TEST(Proxy, ABodyThatMovesIntoItCarriesIt) {
   const ResolvedScene r = resolveScene(loadScene(test::sourceDir() + "/scenes/puma_table.yaml"));
   Simulation sim(r);
-  TouchWorld world(*r.model);
+  const GeometryModel world(*r.model, {}, {});
+  GeometryData placed(world);
   Proxy p(world);
   std::vector<SE3> poses = sim.linkPoses();
+  placed.place(world, poses);
   const int box = r.model->frameIndex("box_a");
   ASSERT_GE(box, 0);
   const Vector3 face = poses[static_cast<size_t>(box)].p + Vector3(0.04, 0, 0);  // box_a's +x face centre
   const Vector3 device = face + Vector3(0.015, 0, 0);  // the hand held still 1.5 cm off it
-  p.update(world, poses, device, kRadius, false);
+  p.update(world, placed, device, kRadius, false);
   ASSERT_FALSE(p.free());
   for (int k = 1; k <= 30; ++k) {  // the box slides +x at 1 m/s
     poses[static_cast<size_t>(box)].p.x() += 0.001;
-    p.update(world, poses, device, kRadius, false);
-    const PointQuery q = pointQuery(*world.geoms()[static_cast<size_t>(p.touches() ? p.touch(0).geom : 0)].shape,
+    placed.place(world, poses);
+    p.update(world, placed, device, kRadius, false);
+    const PointQuery q = pointQuery(*world.object(p.touches() ? p.touch(0).geom : 0).shape,
                                     poses[static_cast<size_t>(box)], p.position());
     if (k > 5) {
       ASSERT_EQ(p.touches(), 1) << k;
       EXPECT_NEAR(q.distance, kRadius, 1e-9) << k;
       EXPECT_EQ(p.deepest(world, device, true), 0) << "a push on the box";
-      EXPECT_EQ(world.geoms()[static_cast<size_t>(p.touch(0).geom)].frame, box);
+      EXPECT_EQ(world.object(p.touch(0).geom).frame, box);
     }
   }
   EXPECT_NEAR(p.position().x(), face.x() + 0.03 + kRadius, 1e-9);
@@ -204,35 +212,40 @@ TEST(Proxy, ABodyThatMovesIntoItCarriesIt) {
 TEST(Proxy, AFreeProxyEngagesOnlyAtTheSurfaceAndAJumpFreesIt) {
   FixedWorld w({shape(CollisionShape::Kind::Box, Vector3(0.2, 0.2, 0.2))});  // top face at z = 0.1
   Proxy p(w.world);
-  p.update(w.world, w.poses, Vector3(0, 0, 0.09), kRadius, false);  // 2 cm deep: stays free
+  p.update(w.world, w.placed, Vector3(0, 0, 0.09), kRadius, false);  // 2 cm deep: stays free
   EXPECT_TRUE(p.free());
   EXPECT_EQ(p.stretch(Vector3(0, 0, 0.09)), Vector3::Zero());
-  p.update(w.world, w.poses, Vector3(0, 0, 0.106), kRadius, false);  // 4 mm deep: engages on the face
+  p.update(w.world, w.placed, Vector3(0, 0, 0.106), kRadius, false);  // 4 mm deep: engages on the face
   EXPECT_FALSE(p.free());
   EXPECT_NEAR(p.position().z(), 0.1 + kRadius, 1e-12);
-  p.update(w.world, w.poses, Vector3(0, 0, 0.08), kRadius, true);  // a pull holds: free, at the device
+  p.update(w.world, w.placed, Vector3(0, 0, 0.08), kRadius, true);  // a pull holds: free, at the device
   EXPECT_TRUE(p.free());
   EXPECT_EQ(p.position(), Vector3(0, 0, 0.08));
-  p.update(w.world, w.poses, Vector3(0, 0, 0.08), kRadius, false);  // let go inside: still free
+  p.update(w.world, w.placed, Vector3(0, 0, 0.08), kRadius, false);  // let go inside: still free
   EXPECT_TRUE(p.free());
-  p.update(w.world, w.poses, Vector3(0, 0, 0.2), kRadius, false);  // out: engages in free space
+  p.update(w.world, w.placed, Vector3(0, 0, 0.2), kRadius, false);  // out: engages in free space
   EXPECT_FALSE(p.free());
-  p.update(w.world, w.poses, Vector3(0, 0, 0.2 + 0.06), kRadius, false);  // a 6 cm jump: freed, re-engages clear
+  p.update(w.world, w.placed, Vector3(0, 0, 0.2 + 0.06), kRadius, false);  // a 6 cm jump: freed, re-engages clear
   EXPECT_FALSE(p.free());
-  p.update(w.world, w.poses, Vector3(0, 0, 0.08), kRadius, false);  // a 18 cm jump into the box: free
+  p.update(w.world, w.placed, Vector3(0, 0, 0.08), kRadius, false);  // a 18 cm jump into the box: free
   EXPECT_TRUE(p.free()) << "a jump does not leave the proxy on the surface with the device deep inside";
 }
 
 TEST(Proxy, AnUpdateAllocatesNothing) {
   const ResolvedScene r = resolveScene(loadScene(test::sourceDir() + "/scenes/puma_table.yaml"));
   Simulation sim(r);
-  const TouchWorld world = touchWorldOf(r);
+  const GeometryModel& world = *r.geometry;
+  GeometryData placed(world);
   Proxy p(world);
   const std::vector<SE3> poses = sim.linkPoses();
   const Vector3 top = poses[static_cast<size_t>(r.model->frameIndex("box_b"))].p + Vector3(0, 0, 0.05);
-  p.update(world, poses, top, kRadius, false);
+  placed.place(world, poses);
+  p.update(world, placed, top, kRadius, false);
   const size_t n = test::allocationsDuring([&] {
-    for (int k = 0; k < 100; ++k) p.update(world, poses, top - Vector3(0, 0, 0.0005 * k), kRadius, false);
+    for (int k = 0; k < 100; ++k) {
+      placed.place(world, poses);
+      p.update(world, placed, top - Vector3(0, 0, 0.0005 * k), kRadius, false);
+    }
   });
   EXPECT_EQ(n, 0u);
   EXPECT_GT(p.touches(), 0);

@@ -265,7 +265,7 @@ int robotBodyContacts(const igms::Simulation& sim) {
   if (!cm) return 0;
   const igms::Model& m = sim.model();
   auto kind = [&](int geom) {  // 0: fixed, 1: a robot, 2: a free body
-    const int part = cm->geoms()[static_cast<size_t>(geom)].part;
+    const int part = cm->geom(geom).part;
     if (part < 0) return 0;
     return m.parts[static_cast<size_t>(part)].free_body ? 2 : 1;
   };
@@ -456,7 +456,8 @@ class CsvExport {
       for (const igms::Obstacle& o : sim.scene().obstacles) {
         if (o.solid) continue;  // touched through contact, not watched (the states' distance leaves it out too)
         obstacles_ << "," << o.name;
-        each_obstacle_.push_back(std::make_unique<igms::CollisionWorld>(sim.model(), std::vector<igms::Obstacle>{o}));
+        each_obstacle_.push_back(std::make_unique<igms::CollisionWorld>(
+            sim.model(), sim.geometry(), [&o](const std::string& name) { return name == o.name; }));
       }
       obstacles_ << "\n";
       obstacles_header_ = true;

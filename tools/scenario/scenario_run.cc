@@ -17,10 +17,8 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
   ScenarioResult out;
   Simulation sim(resolveScene(scene));
   const Model& model = sim.model();
-  std::vector<Obstacle> others;  // every obstacle but the wall the motion is meant to reach
-  for (const auto& o : scene.obstacles)
-    if (o.name != "wall") others.push_back(o);
-  CollisionWorld all(model, scene.obstacles), not_wall(model, others);
+  // Every obstacle, and every one but the wall the motion is meant to reach.
+  CollisionWorld all(model, sim.geometry()), not_wall(model, sim.geometry(), [](const std::string& o) { return o != "wall"; });
   ClientInteraction client(sim.resolved());
   std::vector<SE3> links = sim.linkPoses();
   std::unique_ptr<ScriptedDevice> device;  // none: no haptic input at all (the nominal run)
@@ -125,11 +123,12 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     last_rendered = rendered;
     if (device && scene.push.enabled) {
       // How far the proxy is inside anything, against the state the hand felt, and the device behind it.
-      const TouchWorld& world = client.touchWorld();
+      const GeometryModel& geometry = client.geometry();
       const Proxy& proxy = client.proxy();
       double clear = 1e9;
-      for (int g = 0; g < static_cast<int>(world.geoms().size()); ++g) {
-        const PointQuery q = pointQuery(*world.geoms()[static_cast<size_t>(g)].shape, world.pose(g, links), proxy.position());
+      for (int g = 0; g < geometry.size(); ++g) {
+        if (!geometry.object(g).touchable) continue;
+        const PointQuery q = pointQuery(*geometry.object(g).shape, geometry.worldPose(g, links), proxy.position());
         if (q.valid) clear = std::min(clear, q.distance);
       }
       if (!proxy.free()) out.max_proxy_penetration = std::max(out.max_proxy_penetration, scene.push.tip_radius - clear);
