@@ -74,7 +74,7 @@ constexpr double kSameSide = 0.5;
 
 void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, CouplingForce& out) {
   out = CouplingForce{};
-  if (c.mode == InteractionMode::Push) {
+  if (c.hand.mode == InteractionMode::Push) {
     if (!c.push_shape || c.contact_frame < 0) return;
     // Eq. (3), c = k_p d, with the tip's own depth and normal (the nearest surface to its centre)
     // while that is the side the proxy rests on; once the tip's centre has passed the middle of the
@@ -83,11 +83,11 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     // law smooth within a step; the proxy moves only between steps.)
     const SE3 oMf = framePose(model_, data_, c.contact_frame);
     const SE3 X = oMf * c.push_placement;
-    TipContact touch = tipContact(*c.push_shape, X, c.tip, c.tip_radius);
-    if (touch.depth > c.tip_radius) {  // the tip's centre is inside
+    TipContact touch = tipContact(*c.push_shape, X, c.hand.tip_position, c.hand.tip_radius);
+    if (touch.depth > c.hand.tip_radius) {  // the tip's centre is inside
       const PointQuery at_proxy = pointQuery(*c.push_shape, X, c.proxy);
       if (at_proxy.valid && at_proxy.normal.dot(touch.normal) < kSameSide) {
-        touch.depth = c.tip_radius - (c.tip - at_proxy.surface).dot(at_proxy.normal);
+        touch.depth = c.hand.tip_radius - (c.hand.tip_position - at_proxy.surface).dot(at_proxy.normal);
         touch.touching = touch.depth > 0.0;
         touch.normal = at_proxy.normal;
         touch.point = at_proxy.surface;
@@ -97,11 +97,11 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     // The damper's rate: the tip's approach to the touched point of the link, along the normal.
     double depth_rate = 0.0;
     const Vector3 point_local = oMf.inverse().act(touch.point);
-    if (c.push_b > 0.0) {
+    if (c.gains.push_b > 0.0) {
       pointJacobian(model_, data_, c.contact_frame, point_local, J_);
-      depth_rate = -(c.tip_velocity - J_.topRows<3>() * v).dot(touch.normal);
+      depth_rate = -(c.hand.tip_velocity - J_.topRows<3>() * v).dot(touch.normal);
     }
-    const PushForce p = pushForce(touch, c.push_k_p, scene_.push.max_force, c.push_b, depth_rate);
+    const PushForce p = pushForce(touch, c.gains.push_k_p, scene_.push.max_force, c.gains.push_b, depth_rate);
     if (p.slack) return;
     out.coupled = true;
     out.frame = c.contact_frame;
@@ -110,32 +110,32 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     out.on_robot = p.on_link;
     out.clamped = p.clamped;
     if (!p.clamped) {
-      out.K = c.push_k_p * touch.normal * touch.normal.transpose();
-      out.B = c.push_b * touch.normal * touch.normal.transpose();
+      out.K = c.gains.push_k_p * touch.normal * touch.normal.transpose();
+      out.B = c.gains.push_b * touch.normal * touch.normal.transpose();
     }
-  } else if (c.mode == InteractionMode::Pull && c.attach_frame >= 0) {
-    const Vector3 x = framePose(model_, data_, c.attach_frame).act(c.attach_point);
-    pointJacobian(model_, data_, c.attach_frame, c.attach_point, J_);
+  } else if (c.hand.mode == InteractionMode::Pull && c.pull_frame >= 0) {
+    const Vector3 x = framePose(model_, data_, c.pull_frame).act(c.pull_point);
+    pointJacobian(model_, data_, c.pull_frame, c.pull_point, J_);
     const Vector3 xd = J_.topRows<3>() * v;
-    const PullForce p = pullForce(c.pull_k, c.pull_b, scene_.pull.max_stretch, scene_.pull.max_force, c.tip,
-                                  c.tip_velocity, x, xd);
+    const PullForce p = pullForce(c.gains.pull_k, c.gains.pull_b, scene_.pull.max_stretch, scene_.pull.max_force, c.hand.tip_position,
+                                  c.hand.tip_velocity, x, xd);
     out.coupled = true;
-    out.frame = c.attach_frame;
-    out.point_local = c.attach_point;
+    out.frame = c.pull_frame;
+    out.point_local = c.pull_point;
     out.point = x;
     out.on_robot = p.on_robot;
     out.clamped = p.clamped;
-    if (!p.stretch_capped && !p.clamped) out.K = c.pull_k * Matrix3::Identity();
-    if (!p.clamped) out.B = c.pull_b * Matrix3::Identity();
-    if (c.has_orientation && c.pull_k_rot > 0.0) {
-      const Matrix3 R = framePose(model_, data_, c.attach_frame).R * c.attach_rotation;
+    if (!p.stretch_capped && !p.clamped) out.K = c.gains.pull_k * Matrix3::Identity();
+    if (!p.clamped) out.B = c.gains.pull_b * Matrix3::Identity();
+    if (c.hand.has_orientation && c.gains.pull_k_rot > 0.0) {
+      const Matrix3 R = framePose(model_, data_, c.pull_frame).R * c.attach_rotation;
       const Vector3 w = J_.bottomRows<3>() * v;
-      const PullTorque t = pullTorque(c.pull_k_rot, c.pull_b_rot, scene_.pull.max_angle, scene_.pull.max_torque,
-                                      c.tip_rotation, c.tip_angular_velocity, R, w);
+      const PullTorque t = pullTorque(c.gains.pull_k_rot, c.gains.pull_b_rot, scene_.pull.max_angle, scene_.pull.max_torque,
+                                      c.tip_rotation, c.hand.tip_angular_velocity, R, w);
       out.torque = t.on_robot;
       out.clamped = out.clamped || t.clamped;
-      if (!t.angle_capped && !t.clamped) out.k_rot = c.pull_k_rot;
-      if (!t.clamped) out.b_rot = c.pull_b_rot;
+      if (!t.angle_capped && !t.clamped) out.k_rot = c.gains.pull_k_rot;
+      if (!t.clamped) out.b_rot = c.gains.pull_b_rot;
     }
   }
   if (out.coupled && c.scale != 1.0) {
@@ -167,8 +167,8 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
     free_bodies_.clearDriven();
     for (int h = 0; h < in.ncouplings; ++h) {
       const Coupling& c = in.couplings[h];
-      const int frame = c.mode == InteractionMode::Push ? (c.push_shape ? c.contact_frame : -1)
-                        : c.mode == InteractionMode::Pull ? c.attach_frame
+      const int frame = c.hand.mode == InteractionMode::Push ? (c.push_shape ? c.contact_frame : -1)
+                        : c.hand.mode == InteractionMode::Pull ? c.pull_frame
                                                           : -1;
       const int body = frame >= 0 ? model_.frame(frame).body : -1;
       const int k = body >= 0 ? free_bodies_.ofPart(model_.partOfBody(body)) : -1;

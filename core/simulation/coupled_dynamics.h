@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "core/contact/contact_set.h"
-#include "core/geometry/geometry_model.h"
 #include "core/contact/contact_solver.h"
 #include "core/dynamics/external_force.h"
+#include "core/geometry/geometry_model.h"
 #include "core/integrate/free_body_motion.h"
 #include "core/scene/scene.h"
 #include "core/simulation/hand_input.h"
@@ -28,10 +28,16 @@
 namespace igms {
 
 // One hand's coupling over one step: the device state and the gains.
+// The gains every hand's coupling takes: the scene's, or a SET_GAINS command's. push_b: the virtual
+// coupling's damper on the tip's approach to the touched point (N s/m).
+struct CouplingGains {
+  double push_k_p = 0.0, push_b = 0.0, pull_k = 0.0, pull_b = 0.0, pull_k_rot = 0.0, pull_b_rot = 0.0;
+};
+
+// One hand acting in a step: its input as the bus edge validated it (the one input type, from the
+// bus to here: hand_input.h), and what the step resolved for it.
 struct Coupling {
-  InteractionMode mode = InteractionMode::None;
-  Vector3 tip = Vector3::Zero(), tip_velocity = Vector3::Zero();
-  double tip_radius = 0.01;
+  InteractionInput hand;
   // Push: the shape the hand's proxy rests on (proxy.h), on frame contact_frame at push_placement;
   // null: the proxy touches nothing that moves, no push. The depth is the tip's behind that
   // shape's surface under the proxy, at each evaluated state.
@@ -39,16 +45,13 @@ struct Coupling {
   const CollisionShape* push_shape = nullptr;
   SE3 push_placement;
   Vector3 proxy = Vector3::Zero();
-  int attach_frame = -1;   // pull: the attachment link
-  Vector3 attach_point = Vector3::Zero();  // pull: in the attachment link's frame
-  // The 6-D pull: the device's orientation (world <- tip) and angular velocity,
-  // and the grasped frame's orientation in the attachment link (link <- grasp).
-  bool has_orientation = false;
+  // Pull: the link and point the spring pulls (the input's, or the scene's pull link and point).
+  int pull_frame = -1;
+  Vector3 pull_point = Vector3::Zero();  // in that link's frame
+  // The 6-D pull: the input's orientations as matrices (world <- tip; link <- grasp), once a step.
   Matrix3 tip_rotation = Matrix3::Identity();
-  Vector3 tip_angular_velocity = Vector3::Zero();
   Matrix3 attach_rotation = Matrix3::Identity();
-  // push_b: the virtual coupling's damper on the tip's approach to the touched point (N s/m).
-  double push_k_p = 0.0, push_b = 0.0, pull_k = 0.0, pull_b = 0.0, pull_k_rot = 0.0, pull_b_rot = 0.0;
+  CouplingGains gains;
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
 };
 

@@ -97,7 +97,7 @@ void Simulation::reset() {
   for (auto& c : controllers_) c->reset(resolved_.q0);
   contacts_.n = 0;
   dynamics_->resetContacts();
-  gains_ = Coupling{};
+  gains_ = CouplingGains{};
   setGains(scene_.push.k_p, scene_.pull.k, scene_.pull.b);
   setRotationalGains(scene_.pull.k_rot, scene_.pull.b_rot);
   ncouplings_ = 0;
@@ -208,12 +208,9 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
     any_user = true;
     ho.mode = in.mode;
     Coupling& c = couplings_[static_cast<size_t>(ncouplings_++)];
-    c = gains_;
-    c.mode = in.mode;
+    c.hand = in;
+    c.gains = gains_;
     c.scale = h.scale();
-    c.tip = in.tip_position;
-    c.tip_velocity = in.tip_velocity;
-    c.tip_radius = in.tip_radius;
     c.contact_frame = -1;  // the push acts where the server's proxy rests, on something that moves
     c.push_shape = nullptr;
     if (in.mode == InteractionMode::Push && touch_) {
@@ -230,11 +227,9 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
         c.proxy = h.proxy.position();
       }
     }
-    c.attach_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
-    c.attach_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
-    c.has_orientation = in.has_orientation;
+    c.pull_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
+    c.pull_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
     c.tip_rotation = in.tip_orientation.toRotationMatrix();
-    c.tip_angular_velocity = in.tip_angular_velocity;
     c.attach_rotation = in.attach_orientation.toRotationMatrix();
   }
   if (n > 0) {
@@ -255,7 +250,7 @@ void Simulation::decideHolds(bool any_user) {
       bool held = false;
       for (int i = 0; i < ncouplings_; ++i) {
         const Coupling& c = couplings_[static_cast<size_t>(i)];
-        const int f = c.mode == InteractionMode::Push ? c.contact_frame : c.attach_frame;
+        const int f = c.hand.mode == InteractionMode::Push ? c.contact_frame : c.pull_frame;
         held = held || (f >= part.frame_begin && f < part.frame_end);
       }
       if (!held && robot_held_[r] && controllers_[r]->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;

@@ -157,7 +157,7 @@ class Simulation {
   std::array<Coupling, kMaxHands> couplings_;
   int ncouplings_ = 0;
   std::array<int, kMaxHands> order_{};  // the step's inputs by client id
-  Coupling gains_;                      // the gains every coupling takes
+  CouplingGains gains_;                 // the gains every coupling takes
   std::array<HandTrack, kMaxHands> hands_;
   bool touch_ = false;                  // push on: the hands' proxies touch the geometry
   GeometryData placed_;                 // the geometry at the step's start
