@@ -227,17 +227,12 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
 }
 
 void CoupledDynamics::subtractHoldDamping(const CoupledInputs& in, const VectorX& v, VectorX& F, VectorX* qdd) const {
-  if (in.hold) {
-    // -c H v on each held robot's block: H is block-diagonal across trees, so H^-1 of it is -c v there.
-    for (const DofRange& r : *in.hold) {
-      const int n = r.end - r.begin;
-      data_.H.addSymmetricUpperTimes(r.begin, r.end, -r.rate, v, F);
-      if (qdd) qdd->segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
-    }
-  } else if (in.hold_rate > 0.0) {
-    // -c H v: H^-1 of it is exactly -c v.
-    data_.H.addSymmetricUpperTimes(0, model_.nv, -in.hold_rate, v, F);
-    if (qdd) *qdd -= in.hold_rate * v;
+  if (!in.hold) return;
+  // -c H v on each held robot's block: H is block-diagonal across trees, so H^-1 of it is -c v there.
+  for (const DofRange& r : *in.hold) {
+    const int n = r.end - r.begin;
+    data_.H.addSymmetricUpperTimes(r.begin, r.end, -r.rate, v, F);
+    if (qdd) qdd->segment(r.begin, n) -= r.rate * v.segment(r.begin, n);
   }
 }
 
@@ -262,11 +257,8 @@ void CoupledDynamics::linearSystem(const CoupledInputs& in, const CoupledEvaluat
       });
     }
   };
-  if (in.hold) {
+  if (in.hold)
     for (const DofRange& r : *in.hold) addHold(r.begin, r.end, h * r.rate);
-  } else if (in.hold_rate > 0.0) {
-    addHold(0, nv, h * in.hold_rate);
-  }
   if (in.pd.kp) {
     // The PD's -kp dq - kd dv, implicitly: A += h kd + h^2 kp, rhs -= h^2 kp v.
     const VectorX &kp = *in.pd.kp, &kd = *in.pd.kd;

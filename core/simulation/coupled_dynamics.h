@@ -53,6 +53,7 @@ struct Coupling {
   Matrix3 attach_rotation = Matrix3::Identity();
   CouplingGains gains;
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
+  int robot = -1;      // the robot this hand holds (HandTrack::holdRobot), -1: none
 };
 
 // Dofs [begin, end) of one tree (a robot's), and the hold's rate there.
@@ -74,7 +75,6 @@ struct CoupledInputs {
   VectorX& tau;                // controller torque, held over the step (see inverse_dynamics)
   const Coupling* couplings;   // the hands, in a stated order (the server's: by client id)
   int ncouplings;
-  double hold_rate;            // 1/s: -hold_rate H v while a user interacts (0: none); all dofs unless hold below
   // The controller as inverse dynamics at the step's start state: the step's first evaluation
   // (every scheme's is at the start) writes tau = rnea(q0, v0, *qdd_cmd), the computed torque, or
   // with qdd_cmd null b(q0, v0), the hold's gravity and Coriolis compensation; plus D v0 when the
@@ -82,8 +82,9 @@ struct CoupledInputs {
   // the same pass as the plant's bias (rneaAndBias): the two share placements and velocities.
   bool inverse_dynamics = false;
   const VectorX* qdd_cmd = nullptr;
-  // An environment (several trees): the hold acts on these robots' dofs alone (hold_rate unused), and
-  // inverse dynamics drives none of these dofs (passive robots, PD robots); floating joints it never drives.
+  // The hold, -rate H v, acts on each held robot's dofs (hold; null or empty: none), and inverse
+  // dynamics drives none of the uncommanded dofs (passive robots, PD robots); floating joints it never
+  // drives.
   const std::vector<DofRange>* hold = nullptr;
   const std::vector<DofRange>* uncommanded = nullptr;
   JointPd pd;

@@ -1,6 +1,6 @@
 // One hand as the step sees it across steps: which client it is, the resume
 // ramp that brings its coupling back in after a gap (simulation.h has the
-// rule), and its tip's proxy against the exact state. The simulation keeps
+// rule), the robot it holds, and its tip's proxy against the exact state. The simulation keeps
 // kMaxHands of them and gives a new client the one quiet for longest.
 #pragma once
 
@@ -25,11 +25,23 @@ class HandTrack {
     stall_ = false;
     scale_ = 1.0;
   }
-  // One step passes, with or without an input from this hand: its ramp runs on.
+  // One step passes, with or without an input from this hand: its ramp runs on, and it holds nothing
+  // until its input this step says what (holdRobot).
   void tick(double dt) {
     if (scale_ < 1.0) scale_ = std::min(1.0, scale_ + dt / kResumeRamp);
     ++steps_without_input_;
+    held_before_ = held_;
+    held_ = -1;
   }
+  // This step's push or pull acts on robot `robot` (-1: on none of them: a push that touches nothing,
+  // a pull on a free body). A hand that goes on pushing holds the robot it held, so a push that
+  // slides off for a step does not let the robot go. \return the robot it holds (-1: none).
+  int holdRobot(int robot) {
+    held_ = robot >= 0 ? robot : held_before_;
+    return held_;
+  }
+  // Lets go of what it held (a reset).
+  void letGo() { held_ = held_before_ = -1; }
   // This hand's input `seq` is taken; `interacts`: it pushes or pulls. After a gap (steps without
   // its input, its seq jumping, or a stall of the loop; not before its first input) an interacting
   // input restarts the ramp, this step its first. \return whether it did.
@@ -59,6 +71,7 @@ class HandTrack {
   int steps_without_input_ = 0;
   bool stall_ = false;
   double scale_ = 1.0;
+  int held_ = -1, held_before_ = -1;  // the robot this hand holds (this step, the last)
 
  public:
   Proxy proxy;  // this hand's tip against the exact state (its buffers outlive restart())

@@ -83,14 +83,10 @@ void RobotController::command(double t, const VectorX& q, const VectorX& v, bool
   if (kind_ == ControllerKind::ComputedTorque) {
     if (active_ && !holding) {
       active_->evaluate(t - active_offset_, q_ref_, qd_ref_, qdd_ref_);
-      if (d0 == 0 && nv == model_.nv) {  // the whole model: the one-robot step, as it always was
-        qdd_cmd = qdd_ref_ + kp_.cwiseProduct(q_ref_ - q) + kd_.cwiseProduct(qd_ref_ - v);
-      } else {
-        qdd_cmd.segment(d0, nv) = qdd_ref_ + kp_.cwiseProduct(q_ref_ - q.segment(q0, nq)) +
-                                  kd_.cwiseProduct(qd_ref_ - v.segment(d0, nv));
-      }
-    } else if (holding && !(d0 == 0 && nv == model_.nv)) {
-      qdd_cmd.segment(d0, nv).setZero();  // in an environment the hold is inverse dynamics of zero: b(q, v)
+      qdd_cmd.segment(d0, nv) = qdd_ref_ + kp_.cwiseProduct(q_ref_ - q.segment(q0, nq)) +
+                                kd_.cwiseProduct(qd_ref_ - v.segment(d0, nv));
+    } else if (holding) {
+      qdd_cmd.segment(d0, nv).setZero();  // the hold is inverse dynamics of zero: b(q, v)
     }
     return;
   }

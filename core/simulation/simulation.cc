@@ -52,7 +52,6 @@ Simulation::Simulation(ResolvedScene resolved)
     controllers_.push_back(std::make_unique<RobotController>(m, resolved_, static_cast<int>(k)));
     any_pd_ = any_pd_ || controllers_.back()->kind() == ControllerKind::Pd;
   }
-  environment_ = m.parts.size() > 1;
   robot_held_.assign(controllers_.size(), 0);
   touch_ = scene_.push.enabled;
   if (touch_)
@@ -103,6 +102,7 @@ void Simulation::reset() {
   ncouplings_ = 0;
   for (HandTrack& h : hands_) {
     h.restart(-1);
+    h.letGo();
     h.proxy.release();
   }
   std::fill(robot_held_.begin(), robot_held_.end(), 0);
@@ -177,7 +177,7 @@ HandTrack& Simulation::track(int32_t client) {
 // The step's inputs: one coupling per hand (from the validated haptic inputs, in client-id order),
 // the holds (a quintic resume trajectory when the last interaction on a robot ends) and the
 // controllers' commands.
-bool Simulation::coupleHands(const HandInputs& inputs) {
+void Simulation::coupleHands(const HandInputs& inputs) {
   // Client-id order (a handful: insertion sort, no allocation); equal ids keep their order.
   const int n = std::min(inputs.n, kMaxHands);
   for (int i = 0; i < n; ++i) {
@@ -229,6 +229,7 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
     }
     c.pull_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
     c.pull_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
+    c.robot = h.holdRobot(robotOfFrame(in.mode == InteractionMode::Push ? c.contact_frame : c.pull_frame));
     c.tip_rotation = in.tip_orientation.toRotationMatrix();
     c.attach_rotation = in.attach_orientation.toRotationMatrix();
   }
@@ -237,36 +238,29 @@ bool Simulation::coupleHands(const HandInputs& inputs) {
     outcome_.input_seq = outcome_.hands[0].input_seq;
     outcome_.input_client = outcome_.hands[0].client;
   }
-  return any_user;
 }
 
-void Simulation::decideHolds(bool any_user) {
-  if (environment_) {
-    // A hand holds the robot it acts on alone; the others follow their trajectories. When the last
-    // hand on a robot lets go, generation resumes for it from the new state.
-    bool any_held = false;
-    for (size_t r = 0; r < controllers_.size(); ++r) {
-      const ModelPart& part = controllers_[r]->part();
-      bool held = false;
-      for (int i = 0; i < ncouplings_; ++i) {
-        const Coupling& c = couplings_[static_cast<size_t>(i)];
-        const int f = c.hand.mode == InteractionMode::Push ? c.contact_frame : c.pull_frame;
-        held = held || (f >= part.frame_begin && f < part.frame_end);
-      }
-      if (!held && robot_held_[r] && controllers_[r]->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
-      robot_held_[r] = held;
-      any_held = any_held || held;
-    }
-    interacting_ = any_held;
-    return;
+int Simulation::robotOfFrame(int frame) const {
+  for (size_t r = 0; r < controllers_.size(); ++r) {
+    const ModelPart& part = controllers_[r]->part();
+    if (frame >= part.frame_begin && frame < part.frame_end) return static_cast<int>(r);
   }
-  if (any_user && !interacting_) interacting_ = true;
-  if (!any_user && interacting_) {
-    // Generation resumes from the new state: a quintic from (q, v, qdd) to the goal.
-    interacting_ = false;
-    for (auto& c : controllers_)
-      if (c->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+  return -1;
+}
+
+void Simulation::decideHolds() {
+  // A hand holds the robot it acts on alone; the others follow their trajectories. When the last
+  // hand on a robot lets go, generation resumes for it from the new state: a quintic from (q, v, qdd)
+  // to its goal.
+  bool any_held = false;
+  for (size_t r = 0; r < controllers_.size(); ++r) {
+    bool held = false;
+    for (int i = 0; i < ncouplings_; ++i) held = held || couplings_[static_cast<size_t>(i)].robot == static_cast<int>(r);
+    if (!held && robot_held_[r] && controllers_[r]->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
+    robot_held_[r] = held;
+    any_held = any_held || held;
   }
+  interacting_ = any_held;
 }
 
 // The torque is inverse dynamics at the start state, which the step's first evaluation computes
@@ -277,18 +271,15 @@ void Simulation::decideHolds(bool any_user) {
 // (CoupledInputs::pd), a passive robot's none.
 void Simulation::commandRobots() {
   inverse_dynamics_ = false;
-  hold_rate_ = 0.0;
   hold_.clear();
   uncommanded_.clear();
   for (size_t r = 0; r < controllers_.size(); ++r) {
     RobotController* c = controllers_[r].get();
     const ModelPart& part = c->part();
-    const bool held = environment_ ? robot_held_[r] != 0 : interacting_;
+    const bool held = robot_held_[r] != 0;
     const bool holds = held && c->active();
-    if (holds && c->kind() == ControllerKind::ComputedTorque) {
-      hold_rate_ = c->holdDamping();
+    if (holds && c->kind() == ControllerKind::ComputedTorque)
       hold_.push_back(DofRange{part.dof_begin, part.dof_end, c->holdDamping()});
-    }
     if (c->inverseDynamics()) inverse_dynamics_ = true;
     else uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
     c->command(t_, q_, v_, held, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
@@ -314,16 +305,13 @@ bool Simulation::step(const HandInputs& hands) {
   outcome_ = StepOutcome{};
   placeGeometry(hands);
   if (detection_) detection_->detect(placed_, contacts_);
-  decideHolds(coupleHands(hands));
+  coupleHands(hands);
+  decideHolds();
   commandRobots();
-  // One robot: its hold is b(q, v) (no commanded acceleration). Several: a held robot's share of
-  // qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
-  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, hold_rate_, inverse_dynamics_,
-                       interacting_ && !environment_ ? nullptr : &qdd_cmd_};
-  if (environment_) {
-    inputs.hold = &hold_;
-    if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
-  }
+  // A held robot's share of qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
+  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, inverse_dynamics_, &qdd_cmd_};
+  inputs.hold = &hold_;
+  if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};
   if (detection_) inputs.contacts = &contacts_;
   CoupledDynamics::StepEvaluator f = dynamics_->bind(inputs);

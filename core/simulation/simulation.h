@@ -135,14 +135,16 @@ class Simulation {
 
  private:
   HandTrack& track(int32_t client);
-  // The control stage of a step, in order (step() calls them): each hand's input into its coupling
-  // (in client-id order; \return whether any pushes or pulls), which robot each hand holds (and a
-  // replan for one let go), and each robot's command (the hold's, or its trajectory's or PD's).
-  bool coupleHands(const HandInputs& inputs);
   // The first stage: the bodies and the geometry placed at the start state, when contact or a hand
   // needs them (the dynamics' start evaluation reuses the bodies' poses).
   void placeGeometry(const HandInputs& inputs);
-  void decideHolds(bool any_user);
+  // The control stage of a step, in order (step() calls them): each hand's input into its coupling
+  // (in client-id order), which robot each hand holds (a hand holds the robot whose link it pushes or
+  // pulls; a replan for one let go), and each robot's command (the hold's, or its trajectory's or PD's).
+  void coupleHands(const HandInputs& inputs);
+  void decideHolds();
+  // The robot whose links include this frame (-1: a free body's, or no frame).
+  int robotOfFrame(int frame) const;
   void commandRobots();
   bool checkFinite();
 
@@ -165,10 +167,8 @@ class Simulation {
   ContactSet contacts_;                 // the step's: found at its start, their impulses from its solve
   std::vector<char> robot_held_;            // per robot: a hand acts on it (an environment's holds)
   HandInputs one_;                      // step(const InteractionInput*)'s set
-  double hold_rate_ = 0.0;
   bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (commandRobots)
   std::vector<std::unique_ptr<RobotController>> controllers_;  // one per robot, in scene order
-  bool environment_ = false;            // several parts: per-robot holds and commands (DofRange lists)
   std::vector<DofRange> hold_, uncommanded_;
   VectorX pd_kp_, pd_kd_, pd_q_, pd_v_;
   bool any_pd_ = false;

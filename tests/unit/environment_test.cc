@@ -212,7 +212,7 @@ TEST(Environment, AFreeBodysFactorsAreFormedOnceAndAreThoseOfItsInertia) {
   const Model& m = sim.model();
   CoupledDynamics dynamics(m, sim.scene(), sim.q());
   VectorX tau = VectorX::Zero(m.nv), v = VectorX::Constant(m.nv, 0.3), rhs(m.nv);
-  CoupledInputs in{tau, nullptr, 0, 0.0};
+  CoupledInputs in{tau, nullptr, 0};
   CoupledEvaluation at = dynamics.makeEvaluation();
   TreeMatrix A(m);
   std::vector<char> factored(static_cast<size_t>(A.blocks()), 0);
@@ -229,7 +229,8 @@ TEST(Environment, AFreeBodysFactorsAreFormedOnceAndAreThoseOfItsInertia) {
       for (int r = A.blockBegin(b); r <= c; ++r) ASSERT_EQ(A(r, c), want(r, c)) << r << ", " << c;
   }
   EXPECT_EQ(blocks, 10);
-  in.hold_rate = 5.0;  // A = H + h c H
+  const std::vector<DofRange> everything{DofRange{0, m.nv, 5.0}};
+  in.hold = &everything;  // A = H + h c H
   std::fill(factored.begin(), factored.end(), 0);
   dynamics.linearSystem(in, at, v, 1e-3, A, rhs, factored);
   for (int b = 0; b < A.blocks(); ++b) EXPECT_FALSE(factored[static_cast<size_t>(b)]) << "block " << b;

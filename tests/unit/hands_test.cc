@@ -141,6 +141,41 @@ TEST(Hands, AHandThatComesBackAfterAGapRampsInWithoutTouchingTheOther) {
   EXPECT_GT(pull.force.norm(), 0.5) << "the pull, never away, keeps acting in full";
 }
 
+// A hand holds the robot it pushes or pulls, and holds it while its push goes on, even where the tip
+// slides off for a while; the robot goes back to its trajectory (a replan) the step the push ends. A
+// push that touches no robot holds none: the robot follows its trajectory bit for bit.
+TEST(Hands, AHandHoldsTheRobotItActsOnUntilItLetsGo) {
+  Simulation touched(scene()), untouched(scene()), alone(scene());
+  TwoHands h(touched);
+  InteractionInput nowhere = h.push;
+  nowhere.tip_position = Vector3(3.0, 3.0, 3.0);
+  for (int k = 0; k < 200; ++k) {
+    ASSERT_TRUE(untouched.step(&nowhere));
+    ASSERT_TRUE(alone.step(nullptr));
+    EXPECT_FALSE(untouched.outcome().replanned);
+  }
+  EXPECT_EQ(0, std::memcmp(untouched.q().data(), alone.q().data(), sizeof(double) * untouched.q().size()))
+      << "a push on nothing held the robot";
+  InteractionInput push = h.push;
+  int replans = 0, pushed = 0;
+  for (int k = 0; k < 50; ++k, ++push.seq) {  // on link 2
+    ASSERT_TRUE(touched.step(&push));
+    pushed += touched.outcome().force_on_robot.norm() > 0.0;
+    replans += touched.outcome().replanned;
+  }
+  ASSERT_GT(pushed, 10) << "the push must touch link 2";
+  push.tip_position = Vector3(3.0, 3.0, 3.0);  // slides off: the push goes on, touching nothing
+  for (int k = 0; k < 50; ++k, ++push.seq) {
+    ASSERT_TRUE(touched.step(&push));
+    EXPECT_EQ(touched.outcome().force_on_robot.norm(), 0.0);
+    replans += touched.outcome().replanned;
+  }
+  EXPECT_EQ(replans, 0) << "the robot was let go while the hand still pushed";
+  push.mode = InteractionMode::None;
+  ASSERT_TRUE(touched.step(&push));
+  EXPECT_TRUE(touched.outcome().replanned) << "the push ended: generation resumes from the new state";
+}
+
 TEST(Hands, AStepWithFourHandsDoesNotAllocate) {
   Simulation sim(scene());
   TwoHands h(sim);
