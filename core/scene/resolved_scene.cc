@@ -120,8 +120,9 @@ namespace {
 
 // The stages of resolveScene, in order.
 
-// Each robot's model, then the environment holding them and the free bodies (one robot alone at the
-// origin: its own model, as it always was, bit for bit). robot_joints: each robot's joint names.
+// Each robot's model, then the environment holding them and the free bodies: one robot alone is an
+// environment of one part (appended at the identity, its numbers are its own model's, bit for bit).
+// robot_joints: each robot's joint names.
 std::shared_ptr<const Model> sceneModel(const Scene& s, std::vector<std::vector<std::string>>& robot_joints) {
   std::vector<Model> robots;
   for (size_t k = 0; k < s.robots.size(); ++k) {
@@ -130,9 +131,6 @@ std::shared_ptr<const Model> sceneModel(const Scene& s, std::vector<std::vector<
     robots.push_back(robotModel(s, spec, at));
     robot_joints.push_back(robots.back().joint_name);
   }
-  const bool one_robot = robots.size() == 1 && s.bodies.empty();
-  if (one_robot && s.robots[0].base.p.isZero(0.0) && s.robots[0].base.R == Matrix3::Identity())
-    return std::make_shared<const Model>(std::move(robots[0]));
   Model env = emptyEnvironment(s.name, s.source, s.gravity);
   for (size_t k = 0; k < robots.size(); ++k) {
     const RobotSpec& spec = s.robots[k];
@@ -172,7 +170,8 @@ void warn(ResolvedScene& r) {
   const Model& m = *r.model;
   for (size_t i = 0; i < m.joint_mimic.size(); ++i)
     if (!m.joint_mimic[i].empty())
-      r.warnings.push_back(m.source + ": joint '" + m.joint_name[i] + "' mimics '" + m.joint_mimic[i] +
+      r.warnings.push_back(s.robots[static_cast<size_t>(m.partOfBody(static_cast<int>(i)))].model_path + ": joint '" +
+                           m.joint_name[i] + "' mimics '" + m.joint_mimic[i] +
                            "': treated as an independent coordinate");
   if (!s.push.enabled) return;
   // A link the tip passes through silently is the worst kind of no-op: say which.
