@@ -99,14 +99,18 @@ json nominalPath(const ResolvedScene& r, int traced, double* end_time) {
   json path = json::array();
   *end_time = 0.0;
   Simulation sim(r);
-  if (!sim.hasTrajectory() || traced < 0) return path;
+  const int robot = traced < 0 ? -1 : sim.robotOfFrame(traced);
+  if (robot < 0 || sim.robot(robot).nominal().empty()) return path;
   const Model& m = *r.model;
+  const ModelPart& part = sim.robot(robot).part();
+  const PiecewisePolynomial& nominal = sim.robot(robot).nominal();
   Data data(m);
-  VectorX q(m.nq), qd(m.nv), qdd(m.nv);
-  const double end = *end_time = sim.nominal().endTime();
+  VectorX q = r.q0, qr(part.nq()), qd(part.nq()), qdd(part.nq());  // the others where the scene puts them
+  const double end = *end_time = nominal.endTime();
   constexpr int kSamples = 200;
   for (int k = 0; k <= kSamples; ++k) {
-    sim.nominal().evaluate(end * k / kSamples, q, qd, qdd);
+    nominal.evaluate(end * k / kSamples, qr, qd, qdd);
+    q.segment(part.q_begin, part.nq()) = qr;
     forwardKinematics(m, data, q);
     path.push_back(vec(framePose(m, data, traced).p));
   }

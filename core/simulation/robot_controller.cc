@@ -21,6 +21,11 @@ RobotController::RobotController(const Model& model, const ResolvedScene& resolv
   const Scene& scene = resolved.scene;
   const RobotSpec& spec = scene.robots[static_cast<size_t>(resolved.robots[static_cast<size_t>(robot)].spec)];
   const int nq = part_.nq();
+  // Its own joint names (the environment's carry the robot's name in front) for the saved file.
+  const std::string prefix = spec.name.empty() ? "" : spec.name + "/";
+  std::vector<std::string> joints;
+  for (int i = part_.body_begin; i < part_.body_end; ++i) joints.push_back(model.joint_name[i].substr(prefix.size()));
+  edited_ = EditedTrajectory(part_.q_begin, nq, std::move(joints), scene.source);
   posture_ = resolved.q0.segment(part_.q_begin, nq);
   const std::string at = spec.name.empty() ? "" : "robots[" + std::to_string(robot) + "].";
   switch (spec.trajectory.kind) {
@@ -56,6 +61,7 @@ RobotController::RobotController(const Model& model, const ResolvedScene& resolv
 }
 
 void RobotController::reset(const VectorX& q0) {
+  edited_.clear();
   active_ = nominal_.empty() ? nullptr : &nominal_;
   active_offset_ = 0.0;
   goal_ = q0.segment(part_.q_begin, part_.nq());

@@ -12,6 +12,7 @@
 
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
+#include "core/simulation/edited_trajectory.h"
 #include "core/trajectory/piecewise_polynomial.h"
 
 namespace igms {
@@ -21,6 +22,7 @@ class RobotController {
   // Throws SceneError for a trajectory the robot cannot follow.
   RobotController(const Model& model, const ResolvedScene& resolved, int robot);
 
+  // Back to the scene's start: its nominal trajectory from time 0, its edited motion cleared.
   void reset(const VectorX& q0);
   // A hand let go at time t in state (q, v, qdd): a quintic from there to the goal. \return true
   // when one started.
@@ -41,6 +43,10 @@ class RobotController {
   const VectorX& goal() const { return goal_; }
   // Replace the nominal trajectory (its coordinates), restarted at time t.
   void setNominalTrajectory(double t, const std::vector<double>& times, const std::vector<VectorX>& points);
+  // Its executed motion, the paper's edited trajectory (edited_trajectory.h), and the step's sample of
+  // it (every kPeriod, and whenever `force`d: a start, a replan).
+  const EditedTrajectory& edited() const { return edited_; }
+  void record(double t, const VectorX& q, bool force) { edited_.sample(t, q, force); }
 
  private:
   const Model& model_;
@@ -53,6 +59,7 @@ class RobotController {
   double active_offset_ = 0.0;  // the active trajectory is evaluated at t - active_offset_
   VectorX goal_, posture_;      // its nq
   VectorX q_ref_, qd_ref_, qdd_ref_, qs_, vs_, as_, zero_;
+  EditedTrajectory edited_;
 };
 
 }  // namespace igms

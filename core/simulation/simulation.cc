@@ -60,18 +60,6 @@ Simulation::Simulation(ResolvedScene resolved)
   uncommanded_.reserve(controllers_.size());
   link_poses_.resize(m.frames.size());
   link_velocities_.resize(m.frames.size());
-  // Only the first robot's coordinates: a scene of free bodies would otherwise hold 10 minutes of
-  // every body's pose (a 216-sphere pile: 725 MB). A one-robot scene records all of q, as before.
-  if (!controllers_.empty()) {
-    const ModelPart& part = controllers_.front()->part();
-    std::vector<std::string> joints = model_->joint_name;
-    if (model_->parts.size() > 1) {  // the first robot's coordinates, its own names
-      const std::string prefix = resolved_.robots.front().name.empty() ? "" : resolved_.robots.front().name + "/";
-      joints.clear();
-      for (int i = part.body_begin; i < part.body_end; ++i) joints.push_back(model_->joint_name[i].substr(prefix.size()));
-    }
-    edited_ = EditedTrajectory(part.q_begin, part.nq(), std::move(joints), scene_.source);
-  }
   qdd_cmd_ = VectorX::Zero(m.nv);
   pd_kp_ = pd_kd_ = pd_q_ = pd_v_ = VectorX::Zero(m.nv);
   reset();
@@ -92,7 +80,6 @@ void Simulation::reset() {
   diverged_ = false;
   divergence_.clear();
   forces_clamped_ = 0;
-  edited_.clear();
   for (auto& c : controllers_) c->reset(resolved_.q0);
   contacts_.n = 0;
   dynamics_->resetContacts();
@@ -108,7 +95,7 @@ void Simulation::reset() {
   std::fill(robot_held_.begin(), robot_held_.end(), 0);
   stall_noted_ = false;
   resume_ramps_ = 0;
-  edited_.sample(t_, q_, true);
+  for (auto& c : controllers_) c->record(t_, q_, true);
 }
 
 void Simulation::setState(double t, const VectorX& q, const VectorX& v, const VectorX& qdd, bool interacting) {
@@ -134,14 +121,19 @@ bool Simulation::hasTrajectory() const {
   return false;
 }
 
-const PiecewisePolynomial& Simulation::nominal() const {
-  static const PiecewisePolynomial kNone;
-  return controllers_.empty() ? kNone : controllers_.front()->nominal();
+void Simulation::saveEdited(int robot, const std::string& path) const {
+  if (robot < 0 || robot >= robots()) EditedTrajectory().save(path);  // says there is no such robot
+  else this->robot(robot).edited().save(path);
 }
 
-void Simulation::setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points) {
-  if (controllers_.empty()) throw std::runtime_error(scene_.source + ": no robot to give a trajectory");
-  controllers_.front()->setNominalTrajectory(t_, times, points);
+void Simulation::setNominalTrajectory(int robot, const std::vector<double>& times, const std::vector<VectorX>& points) {
+  if (robot < 0 || robot >= robots()) throw std::runtime_error(scene_.source + ": no robot " + std::to_string(robot));
+  const int nq = controllers_[static_cast<size_t>(robot)]->part().nq();
+  for (const VectorX& p : points)
+    if (p.size() != nq)
+      throw std::runtime_error("a point has " + std::to_string(p.size()) + " coordinates, the robot " +
+                               std::to_string(nq));
+  controllers_[static_cast<size_t>(robot)]->setNominalTrajectory(t_, times, points);
 }
 
 void Simulation::setGains(double push_k_p, double pull_k, double pull_b) {
@@ -361,7 +353,7 @@ bool Simulation::step(const HandInputs& hands) {
   }
   q_good_ = q_;
   v_good_ = v_;
-  edited_.sample(t_, q_, outcome_.replanned);
+  for (auto& c : controllers_) c->record(t_, q_, outcome_.replanned);
   return true;
 }
 

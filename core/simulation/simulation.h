@@ -37,7 +37,6 @@
 #include "core/interaction/proxy.h"
 #include "core/scene/resolved_scene.h"
 #include "core/simulation/coupled_dynamics.h"
-#include "core/simulation/edited_trajectory.h"
 #include "core/simulation/hand_input.h"
 #include "core/simulation/hand_track.h"
 #include "core/simulation/robot_controller.h"
@@ -94,17 +93,20 @@ class Simulation {
   const Proxy* proxyOf(int32_t client) const;
   // Cycles in which a hand's proxy ran out of its substep budget (it catches up the next), every hand's.
   int64_t proxySubstepLimited() const;
-  // The first robot's goal configuration (end of its nominal trajectory; its initial q without one),
-  // its coordinates; without robots, the whole initial q.
-  const VectorX& goal() const { return controllers_.empty() ? resolved_.q0 : controllers_.front()->goal(); }
+  // The robots, in scene order (a scene of free bodies has none), each with its controller: its goal
+  // (its coordinates), its nominal trajectory, its edited motion (robot_controller.h).
+  int robots() const { return static_cast<int>(controllers_.size()); }
+  const RobotController& robot(int r) const { return *controllers_[static_cast<size_t>(r)]; }
+  // The robot whose links include this frame (-1: a free body's, or no frame).
+  int robotOfFrame(int frame) const;
   // Some robot has a trajectory to follow.
   bool hasTrajectory() const;
-  // The first robot's nominal trajectory (empty without one), from simulated time 0.
-  const PiecewisePolynomial& nominal() const;
-  const std::vector<std::unique_ptr<RobotController>>& controllers() const { return controllers_; }
-
-  // Replace the first robot's nominal trajectory (restarts it at the current time).
-  void setNominalTrajectory(const std::vector<double>& times, const std::vector<VectorX>& points);
+  // Robot r's edited motion, written as a scene-loadable waypoint file (EditedTrajectory::save). Throws
+  // std::runtime_error naming the path: no such robot (a scene of free bodies), too short, not written.
+  void saveEdited(int robot, const std::string& path) const;
+  // Replace robot r's nominal trajectory (its coordinates; restarts it at the current time). Throws
+  // std::runtime_error for no such robot or a point of another size.
+  void setNominalTrajectory(int robot, const std::vector<double>& times, const std::vector<VectorX>& points);
 
   // The contacts at the last step's start, with the impulses its solve gave them (empty without contact).
   const ContactSet& contacts() const { return contacts_; }
@@ -126,9 +128,6 @@ class Simulation {
   }
   static constexpr int64_t kStallGapUs = 20000;
 
-  // The executed motion of the first robot (edited_trajectory.h; none without a robot): edited().save(path)
-  // writes it as a scene-loadable waypoint file.
-  const EditedTrajectory& edited() const { return edited_; }
 
   // Components this scene uses ("trajectory", "push", "pull", "collision", ...).
   std::vector<std::string> activeComponents() const;
@@ -143,8 +142,6 @@ class Simulation {
   // pulls; a replan for one let go), and each robot's command (the hold's, or its trajectory's or PD's).
   void coupleHands(const HandInputs& inputs);
   void decideHolds();
-  // The robot whose links include this frame (-1: a free body's, or no frame).
-  int robotOfFrame(int frame) const;
   void commandRobots();
   bool checkFinite();
 
@@ -190,7 +187,6 @@ class Simulation {
   StepOutcome outcome_;
   std::vector<SE3> link_poses_;
   std::vector<Motion> link_velocities_;
-  EditedTrajectory edited_;  // the first robot's executed motion (none without a robot)
   VectorX q_good_, v_good_;     // last finite state
 };
 

@@ -177,11 +177,13 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
 void publishEditedTrajectory(bus::SignedPublisher& bus, const Simulation& sim) {
   trajectory_t traj;
   traj.utime = wallMicros();
-  traj.nq = sim.edited().count() > 0 ? static_cast<int32_t>(sim.edited().point(0).size()) : 0;  // the first robot's q
+  static const EditedTrajectory kNone;
+  const EditedTrajectory& edited = sim.robots() > 0 ? sim.robot(0).edited() : kNone;  // the first robot's q
+  traj.nq = edited.count() > 0 ? static_cast<int32_t>(edited.point(0).size()) : 0;
   for (int j = 0; j < traj.nq; ++j) traj.joint_names.push_back("q" + std::to_string(j));
-  for (int k = 0; k < sim.edited().count(); ++k) {
-    traj.t.push_back(sim.edited().time(k));
-    const VectorX row = sim.edited().point(k);
+  for (int k = 0; k < edited.count(); ++k) {
+    traj.t.push_back(edited.time(k));
+    const VectorX row = edited.point(k);
     traj.q.emplace_back(row.data(), row.data() + row.size());
   }
   traj.npoints = static_cast<int32_t>(traj.t.size());
@@ -214,7 +216,7 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, bus::SignedPublisher&
   const int code = runLoop(bus, receiver, p, control, o, token, stop);
   if (!control.reload && !o.save_edited.empty()) {
     try {
-      p.sim->edited().save(o.save_edited);
+      p.sim->saveEdited(0, o.save_edited);  // the first robot's
       if (!o.quiet) std::fprintf(stderr, "igms-server: edited trajectory saved to %s\n", o.save_edited.c_str());
     } catch (const std::exception& e) {
       std::fprintf(stderr, "igms-server: %s\n", e.what());

@@ -9,20 +9,33 @@ namespace {
 
 CommandResult rejected(const std::string& why) { return {false, why}; }
 
+// text: the robot's name in the scene ("": the first robot).
+int robotNamed(const Simulation& sim, const std::string& name) {
+  if (name.empty()) return sim.robots() > 0 ? 0 : -1;
+  const auto& robots = sim.resolved().robots;
+  for (size_t r = 0; r < robots.size(); ++r)
+    if (robots[r].name == name) return static_cast<int>(r);
+  return -1;
+}
+
 CommandResult setTrajectory(const command_t& c, Simulation& sim) {
   const trajectory_t& tr = c.trajectory;
   if (tr.t.size() != tr.q.size() || tr.t.size() < 2) return rejected("SET_TRAJECTORY: needs two or more points");
+  const int robot = robotNamed(sim, c.text);
+  if (robot < 0)
+    return rejected("SET_TRAJECTORY: no robot " + (c.text.empty() ? std::string("in the scene") : "named '" + c.text + "'"));
+  const int nq = sim.robot(robot).part().nq();
   std::vector<double> t(tr.t.begin(), tr.t.end());
   std::vector<VectorX> points;
   for (const auto& row : tr.q) {
-    if (static_cast<int>(row.size()) != sim.model().nq)
-      return rejected("SET_TRAJECTORY: a point has " + std::to_string(row.size()) + " coordinates, the model " +
-                      std::to_string(sim.model().nq));
+    if (static_cast<int>(row.size()) != nq)
+      return rejected("SET_TRAJECTORY: a point has " + std::to_string(row.size()) + " coordinates, the robot " +
+                      std::to_string(nq));
     points.push_back(Eigen::Map<const VectorX>(row.data(), static_cast<int>(row.size())));
     if (!points.back().allFinite()) return rejected("SET_TRAJECTORY: a point is not finite");
   }
   try {
-    sim.setNominalTrajectory(t, points);
+    sim.setNominalTrajectory(robot, t, points);
   } catch (const std::exception& e) {
     return rejected(std::string("SET_TRAJECTORY: ") + e.what());
   }
@@ -75,7 +88,7 @@ CommandResult applyCommand(const command_t& c, Simulation& sim, LoopControl& con
     case command_t::SAVE_TRAJECTORY:
       if (c.text.empty()) return rejected("SAVE_TRAJECTORY: no file given");
       try {
-        sim.edited().save(c.text);
+        sim.saveEdited(0, c.text);  // the first robot's
       } catch (const std::exception& e) {
         return rejected(e.what());
       }

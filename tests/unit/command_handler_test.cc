@@ -34,7 +34,7 @@ TEST(CommandHandler, AFailedSetTrajectoryLeavesAPausedServerPausedAndTheTrajecto
   Simulation sim = wallScene();
   LoopControl control;
   control.paused = true;
-  const VectorX goal = sim.goal();
+  const VectorX goal = sim.robot(0).goal();
   command_t c = command(command_t::SET_TRAJECTORY);
   c.trajectory.t = {0.0, 1.0};
   c.trajectory.q = {std::vector<double>(6, 0.0), std::vector<double>(5, 0.0)};  // a point of the wrong size
@@ -42,11 +42,41 @@ TEST(CommandHandler, AFailedSetTrajectoryLeavesAPausedServerPausedAndTheTrajecto
   EXPECT_FALSE(r.accepted);
   EXPECT_NE(r.message.find("coordinates"), std::string::npos) << r.message;
   EXPECT_TRUE(control.paused);
-  EXPECT_EQ(sim.goal(), goal);
+  EXPECT_EQ(sim.robot(0).goal(), goal);
   c.trajectory.q[1] = std::vector<double>(6, 0.1);
   EXPECT_TRUE(applyCommand(c, sim, control).accepted);
   EXPECT_TRUE(control.paused);
-  EXPECT_TRUE(sim.goal().isApprox(VectorX::Constant(6, 0.1), 1e-12));
+  EXPECT_TRUE(sim.robot(0).goal().isApprox(VectorX::Constant(6, 0.1), 1e-12));
+}
+
+// In a scene of several robots a trajectory goes to the robot its text names, in that robot's own
+// coordinates; the others keep theirs.
+TEST(CommandHandler, SetTrajectoryGoesToTheRobotItNames) {
+  Simulation sim(loadScene(sourceDir() + "/scenes/workcell.yaml"));
+  LoopControl control;
+  ASSERT_EQ(sim.robots(), 2);
+  const VectorX puma_goal = sim.robot(0).goal();
+  const int go1_nq = sim.robot(1).part().nq();
+  command_t c = command(command_t::SET_TRAJECTORY);
+  c.text = "go1";
+  c.trajectory.t = {0.0, 1.0};
+  c.trajectory.q = {std::vector<double>(sim.model().nq, 0.0), std::vector<double>(sim.model().nq, 0.0)};
+  CommandResult r = applyCommand(c, sim, control);
+  EXPECT_FALSE(r.accepted) << "the environment's coordinates are not the Go1's";
+  EXPECT_NE(r.message.find("the robot " + std::to_string(go1_nq)), std::string::npos) << r.message;
+  VectorX stance = sim.robot(1).goal();
+  c.trajectory.q = {std::vector<double>(stance.data(), stance.data() + go1_nq),
+                    std::vector<double>(stance.data(), stance.data() + go1_nq)};
+  c.trajectory.q[1][go1_nq - 1] += 0.1;  // its last joint a little further
+  r = applyCommand(c, sim, control);
+  EXPECT_TRUE(r.accepted) << r.message;
+  stance[go1_nq - 1] += 0.1;
+  EXPECT_EQ(sim.robot(1).goal(), stance);
+  EXPECT_EQ(sim.robot(0).goal(), puma_goal) << "the PUMA keeps its own";
+  c.text = "ur5";
+  r = applyCommand(c, sim, control);
+  EXPECT_FALSE(r.accepted);
+  EXPECT_NE(r.message.find("no robot named 'ur5'"), std::string::npos) << r.message;
 }
 
 TEST(CommandHandler, UnknownKindsAndInvalidArgumentsAreRejectedWithAReason) {

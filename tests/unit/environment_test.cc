@@ -56,19 +56,27 @@ TEST(Environment, SeveralRobotsAndFreeBodiesAreTreesOfOneModel) {
   EXPECT_NEAR(sim.q()[m.parts[1].q_begin + 2], -0.124, 0.01) << "the Go1 stands where it was put";
 }
 
-TEST(Environment, TheEditedMotionIsTheFirstRobotsAlone) {
+TEST(Environment, EachRobotRecordsItsOwnEditedMotion) {
   Simulation workcell(shipped("workcell.yaml"));
   for (int k = 0; k < 50; ++k) ASSERT_TRUE(workcell.step(nullptr));
-  ASSERT_GE(workcell.edited().count(), 2);
-  EXPECT_EQ(workcell.edited().point(1).size(), workcell.model().parts[0].nq()) << "the PUMA's 6, not every body's pose";
-  EXPECT_DOUBLE_EQ(workcell.edited().point(0)[0], -0.9);
+  ASSERT_EQ(workcell.robots(), 2);
+  const EditedTrajectory& puma = workcell.robot(0).edited();
+  ASSERT_GE(puma.count(), 2);
+  EXPECT_EQ(puma.point(1).size(), workcell.model().parts[0].nq()) << "the PUMA's 6, not every body's pose";
+  EXPECT_DOUBLE_EQ(puma.point(0)[0], -0.9);
+  const EditedTrajectory& go1 = workcell.robot(1).edited();
+  ASSERT_EQ(go1.count(), puma.count());
+  const ModelPart& legs = workcell.model().parts[1];
+  EXPECT_EQ(go1.point(1).size(), legs.nq()) << "the Go1's own coordinates";
+  EXPECT_EQ(VectorX(go1.point(go1.count() - 1)), VectorX(workcell.q().segment(legs.q_begin, legs.nq())))
+      << "its last sample is where it stands now";
   // A scene of free bodies alone records nothing (10 minutes of a pile's poses would be 725 MB)
   // and says so when asked to save it.
   Simulation pile(shipped("sphere_pile.yaml"));
   for (int k = 0; k < 50; ++k) ASSERT_TRUE(pile.step(nullptr));
-  EXPECT_EQ(pile.edited().point(0).size(), 0);
+  EXPECT_EQ(pile.robots(), 0);
   try {
-    pile.edited().save("/tmp/igms_environment_test_pile.yaml");
+    pile.saveEdited(0, "/tmp/igms_environment_test_pile.yaml");
     ADD_FAILURE() << "saved a robot's motion from a scene without a robot";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no robot"), std::string::npos) << e.what();

@@ -159,7 +159,7 @@ TEST(Simulation, PushChangesTheTrajectoryAndGenerationResumesToTheGoal) {
   ASSERT_TRUE(pushed.step(nullptr));
   EXPECT_TRUE(pushed.outcome().replanned);
   run(pushed, 6.0);
-  EXPECT_LE((pushed.q() - pushed.goal()).norm(), 1e-3) << "generation resumed and reached the goal";
+  EXPECT_LE((pushed.q() - pushed.robot(0).goal()).norm(), 1e-3) << "generation resumed and reached the goal";
 }
 
 // The step reports the user's force at its start state (what the paper
@@ -345,8 +345,8 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   Simulation sim(scene("puma_wall.yaml"));
   run(sim, 1.0);
   const std::string path = ::testing::TempDir() + "/edited.yaml";
-  sim.edited().save(path);
-  EXPECT_GE(sim.edited().count(), 100);
+  sim.saveEdited(0, path);
+  EXPECT_GE(sim.robot(0).edited().count(), 100);
   Scene replay = scene("puma_wall.yaml");
   replay.robots[0].trajectory =
       parseScene("robot: {model: x}\ntrajectory: {kind: file, file: " + path + "}\n", "t.yaml", "").robots[0].trajectory;
@@ -359,7 +359,7 @@ TEST(Simulation, EditedTrajectoryIsSavedAndReloadsAsANominalTrajectory) {
   EXPECT_EQ(t.file, path);
   EXPECT_NE(t.file_text.find("joints: [joint1"), std::string::npos) << t.file_text;
   // Doubles survive the emitter bit for bit.
-  EXPECT_EQ(t.waypoints.front(), VectorX(sim.edited().point(0)));
+  EXPECT_EQ(t.waypoints.front(), VectorX(sim.robot(0).edited().point(0)));
   std::remove(path.c_str());
 }
 

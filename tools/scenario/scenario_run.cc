@@ -147,7 +147,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     out.final_ee = s.ee;
     out.samples.push_back(std::move(s));
   }
-  if (!save_edited.empty()) sim.edited().save(save_edited);
+  if (!save_edited.empty()) sim.saveEdited(0, save_edited);  // the first robot's
   return out;
 }
 
