@@ -306,7 +306,8 @@ int main(int argc, char** argv) {
     if (wanted(push_label)) {
       Simulation sim(scene);
       sim.step(nullptr);
-      // A tip just touching the link's mesh: marched in from 30 cm above its origin.
+      // A tip just touching the link's mesh (2 mm in: a push engages at most 5 mm deep, proxy.h),
+      // marched in from 30 cm above its origin.
       const int f = sim.model().frameIndex(r.pushed);
       InteractionInput push;
       push.mode = InteractionMode::Push;
@@ -315,7 +316,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < 3000; ++k, tip.z() -= 1e-4) {
         const LinkContact c = deepestContact(sim.model(), [&](int g) { return poses[static_cast<size_t>(g)]; }, tip,
                                              sim.scene().push.tip_radius, f);
-        if (c.contact.touching && c.contact.depth > 0.005) break;
+        if (c.contact.touching && c.contact.depth > 0.002) break;
       }
       push.tip_position = tip;
       auto us = timeSteps(sim, &push, n);

@@ -263,6 +263,7 @@ void Simulation::decideHolds() {
 // (CoupledInputs::pd), a passive robot's none.
 void Simulation::commandRobots() {
   inverse_dynamics_ = false;
+  following_ = false;
   hold_.clear();
   uncommanded_.clear();
   for (size_t r = 0; r < controllers_.size(); ++r) {
@@ -272,8 +273,12 @@ void Simulation::commandRobots() {
     const bool holds = held && c->active();
     if (holds && c->kind() == ControllerKind::ComputedTorque)
       hold_.push_back(DofRange{part.dof_begin, part.dof_end, c->holdDamping()});
-    if (c->inverseDynamics()) inverse_dynamics_ = true;
-    else uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
+    if (c->inverseDynamics()) {
+      inverse_dynamics_ = true;
+      following_ = following_ || !held;
+    } else {
+      uncommanded_.push_back(DofRange{part.dof_begin, part.dof_end, 0.0});
+    }
     c->command(t_, q_, v_, held, qdd_cmd_, pd_kp_, pd_kd_, pd_q_, pd_v_);
   }
   if (!inverse_dynamics_) tau_.setZero();  // no trajectory: passive robots (and PD robots' torque is the dynamics')
@@ -300,8 +305,9 @@ bool Simulation::step(const HandInputs& hands) {
   coupleHands(hands);
   decideHolds();
   commandRobots();
-  // A held robot's share of qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone.
-  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, inverse_dynamics_, &qdd_cmd_};
+  // A held robot's share of qdd_cmd is zero (RobotController::command), which gives its b(q, v) alone;
+  // with every robot held, inverse dynamics is the bias alone (one force set, not two).
+  CoupledInputs inputs{tau_, couplings_.data(), ncouplings_, inverse_dynamics_, following_ ? &qdd_cmd_ : nullptr};
   inputs.hold = &hold_;
   if (!uncommanded_.empty()) inputs.uncommanded = &uncommanded_;
   if (any_pd_) inputs.pd = JointPd{&pd_kp_, &pd_kd_, &pd_q_, &pd_v_};

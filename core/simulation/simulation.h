@@ -165,6 +165,7 @@ class Simulation {
   std::vector<char> robot_held_;            // per robot: a hand acts on it (an environment's holds)
   HandInputs one_;                      // step(const InteractionInput*)'s set
   bool inverse_dynamics_ = false;      // some robot is driven by inverse dynamics this step (commandRobots)
+  bool following_ = false;              // and some such robot follows its trajectory (is not held)
   std::vector<std::unique_ptr<RobotController>> controllers_;  // one per robot, in scene order
   std::vector<DofRange> hold_, uncommanded_;
   VectorX pd_kp_, pd_kd_, pd_q_, pd_v_;
