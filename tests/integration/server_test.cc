@@ -186,14 +186,18 @@ TEST(Server, PushChangesTheTrajectoryAndPullDragsTheEndEffector) {
   Simulation nominal(loadScene(sourceDir() + "/scenes/puma_wall.yaml"));
   const int link3 = linkIndex(status, "link3"), ee = linkIndex(status, "ee_link");
   ASSERT_GE(link3, 0);
-  // Push: the tip 4 cm above link 3's origin for 300 ms.
+  // Push: the tip sphere (1 cm) 4 mm into the top of link 3's collision cylinder (5 cm radius), for
+  // 300 ms. A push engages at most 5 mm deep (proxy.h), and a push that touches nothing holds nothing.
+  const SE3 cylinder = nominal.model().frame(nominal.model().frameIndex("link3")).collisions.at(0).placement;
   int64_t seq = 1;
   for (int k = 0; k < 300; ++k) {
     {
       std::lock_guard<std::mutex> l(listener.mutex);
       s = listener.last;
     }
-    haptic_input_t m = input(seq++, haptic_input_t::MODE_PUSH, linkPosition(s, link3) + Vector3(0.0, 0.0, 0.06));
+    const double* x = s.link_poses[static_cast<size_t>(link3)].data();
+    const SE3 link{Eigen::Quaterniond(x[3], x[4], x[5], x[6]).toRotationMatrix(), Vector3(x[0], x[1], x[2])};
+    haptic_input_t m = input(seq++, haptic_input_t::MODE_PUSH, (link * cylinder).p + Vector3(0.0, 0.0, 0.056));
     m.contact_link = "link3";
     bus.publish(channels::kHapticInput, &m);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
