@@ -166,10 +166,7 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
   if (step_start && !free_bodies_.empty()) {  // a free body a hand acts on takes the integrators' step
     free_bodies_.clearDriven();
     for (int h = 0; h < in.ncouplings; ++h) {
-      const Coupling& c = in.couplings[h];
-      const int frame = c.hand.mode == InteractionMode::Push ? (c.push_shape ? c.contact_frame : -1)
-                        : c.hand.mode == InteractionMode::Pull ? c.pull_frame
-                                                          : -1;
+      const int frame = in.couplings[h].actsOn();
       const int body = frame >= 0 ? model_.frame(frame).body : -1;
       const int k = body >= 0 ? free_bodies_.ofPart(model_.partOfBody(body)) : -1;
       if (k >= 0) free_bodies_.setDriven(k);

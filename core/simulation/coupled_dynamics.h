@@ -54,6 +54,13 @@ struct Coupling {
   CouplingGains gains;
   double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
   int robot = -1;      // the robot this hand holds (HandTrack::holdRobot), -1: none
+
+  // The frame the hand acts on: the pushed shape's, or the pulled link (-1: a push on nothing).
+  int actsOn() const {
+    return hand.mode == InteractionMode::Push ? (push_shape ? contact_frame : -1)
+           : hand.mode == InteractionMode::Pull ? pull_frame
+                                                : -1;
+  }
 };
 
 // Dofs [begin, end) of one tree (a robot's), and the hold's rate there.

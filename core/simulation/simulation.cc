@@ -76,7 +76,6 @@ void Simulation::reset() {
   tau_ = VectorX::Zero(model_->nv);
   t_ = 0.0;
   steps_ = 0;
-  interacting_ = false;
   diverged_ = false;
   divergence_.clear();
   forces_clamped_ = 0;
@@ -105,7 +104,6 @@ void Simulation::setState(double t, const VectorX& q, const VectorX& v, const Ve
   q_good_ = q;
   v_good_ = v;
   t_ = t;
-  interacting_ = interacting;
   diverged_ = false;
   // A re-based copy does not know the server's gaps; its hands' proxies go on from where they were.
   for (HandTrack& h : hands_) h.restart(h.client());
@@ -221,7 +219,7 @@ void Simulation::coupleHands(const HandInputs& inputs) {
     }
     c.pull_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
     c.pull_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
-    c.robot = h.holdRobot(robotOfFrame(in.mode == InteractionMode::Push ? c.contact_frame : c.pull_frame));
+    c.robot = h.holdRobot(robotOfFrame(c.actsOn()));
     c.tip_rotation = in.tip_orientation.toRotationMatrix();
     c.attach_rotation = in.attach_orientation.toRotationMatrix();
   }
@@ -244,15 +242,12 @@ void Simulation::decideHolds() {
   // A hand holds the robot it acts on alone; the others follow their trajectories. When the last
   // hand on a robot lets go, generation resumes for it from the new state: a quintic from (q, v, qdd)
   // to its goal.
-  bool any_held = false;
   for (size_t r = 0; r < controllers_.size(); ++r) {
     bool held = false;
     for (int i = 0; i < ncouplings_; ++i) held = held || couplings_[static_cast<size_t>(i)].robot == static_cast<int>(r);
     if (!held && robot_held_[r] && controllers_[r]->replan(t_, q_, v_, qdd_)) outcome_.replanned = true;
     robot_held_[r] = held;
-    any_held = any_held || held;
   }
-  interacting_ = any_held;
 }
 
 // The torque is inverse dynamics at the start state, which the step's first evaluation computes

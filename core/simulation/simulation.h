@@ -179,7 +179,6 @@ class Simulation {
   VectorX qdd_cmd_;
   double t_ = 0.0;
   int64_t steps_ = 0;
-  bool interacting_ = false;
   bool diverged_ = false;
   std::string divergence_;
   int64_t forces_clamped_ = 0;

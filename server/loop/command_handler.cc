@@ -24,13 +24,9 @@ CommandResult setTrajectory(const command_t& c, Simulation& sim) {
   const int robot = robotNamed(sim, c.text);
   if (robot < 0)
     return rejected("SET_TRAJECTORY: no robot " + (c.text.empty() ? std::string("in the scene") : "named '" + c.text + "'"));
-  const int nq = sim.robot(robot).part().nq();
   std::vector<double> t(tr.t.begin(), tr.t.end());
   std::vector<VectorX> points;
   for (const auto& row : tr.q) {
-    if (static_cast<int>(row.size()) != nq)
-      return rejected("SET_TRAJECTORY: a point has " + std::to_string(row.size()) + " coordinates, the robot " +
-                      std::to_string(nq));
     points.push_back(Eigen::Map<const VectorX>(row.data(), static_cast<int>(row.size())));
     if (!points.back().allFinite()) return rejected("SET_TRAJECTORY: a point is not finite");
   }
