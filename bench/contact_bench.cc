@@ -3,10 +3,10 @@
 // scene, both are warmed up, then rounds alternate a batch of igms steps and a
 // batch of mj_step calls (the same number, 1 ms each), and each engine's median
 // batch gives its microseconds per step; the ratio igms / MuJoCo is printed.
-// MuJoCo reads the MJCF that scripts/contact_peers.py writes from the same scene
+// MuJoCo reads the MJCF that scripts/bench/contact_peers.py writes from the same scene
 // (the same URDF, shapes, masses, poses, PD gains; its own soft contact and
 // Newton solver with their defaults). Built with IGMS_PEER_BENCH (MuJoCo's C
-// library from its PyPI wheel); scripts/bench.sh --contact does all of it.
+// library from its PyPI wheel); scripts/bench/bench.sh --contact does all of it.
 //   igms-contact-bench --mjcf-dir DIR --scene scenes/go1_stand.yaml [--scene ...] [--rounds 9] [--steps 1000]
 //                      [--warm 2000] [--json FILE]
 #include <mujoco/mujoco.h>
@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   CLI::App app{"", "igms-contact-bench"};
   igms::cli::describe(app, "igms's step against MuJoCo's mj_step on the same contact scenes, interleaved.");
   app.add_option("--scene", scenes, "scene file (YAML); repeat for several")->required()->check(CLI::ExistingFile);
-  app.add_option("--mjcf-dir", mjcf_dir, "the MJCF that scripts/contact_peers.py wrote")->required();
+  app.add_option("--mjcf-dir", mjcf_dir, "the MJCF that scripts/bench/contact_peers.py wrote")->required();
   app.add_option("--rounds", rounds, "rounds (each a batch per engine)")->check(CLI::PositiveNumber);
   app.add_option("--steps", steps, "steps per batch")->check(CLI::PositiveNumber);
   app.add_option("--warm", warm, "steps before timing (settling)")->check(CLI::NonNegativeNumber);

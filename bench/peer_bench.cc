@@ -2,7 +2,7 @@
 // `igms-dyn bench` times for igms, with the same sampling (a median over
 // samples of about 50 us), as JSON. It links no igms library: Pinocchio's URDF
 // parser brings urdfdom 6 from its wheel, igms links Debian's urdfdom 3, and
-// one process cannot hold both. bench/peer_table.py runs it and igms-dyn bench
+// one process cannot hold both. scripts/bench/peer_table.py runs it and igms-dyn bench
 // in turn, round after round, and prints igms / the best peer.
 // Kernels, each library's fastest public path from (q, v, a or tau):
 //   rnea_us      Pinocchio rnea; MuJoCo mj_kinematics + mj_comPos + mj_comVel + mj_rne (with qacc)
@@ -15,7 +15,7 @@
 // only; its compiler fuses fixed joints), contacts and constraints disabled.
 // Built with the CMake option IGMS_PEER_BENCH (off by default: it needs PyPI
 // pin and mujoco, whose wheels carry Pinocchio's C++ headers and MuJoCo's C
-// library; scripts/bench.sh --peers does all of it).
+// library; scripts/bench/bench.sh --peers does all of it).
 //   igms-peer-bench --model ROBOT.urdf [--floating-base] [--frame NAME]
 //   igms-peer-bench --write-chain N FILE      the serial chain igms-bench uses, as a URDF file
 #include <mujoco/mujoco.h>
@@ -99,7 +99,7 @@ nlohmann::json benchRobot(const std::string& path, bool floating, const std::str
   if (floating) pinocchio::urdf::buildModel(path, pinocchio::JointModelFreeFlyer(), pm);
   else pinocchio::urdf::buildModel(path, pm);
   pinocchio::Data pd(pm);
-  // The Jacobian's frame: the one named (igms-dyn bench's, from bench/peer_table.py), else the last body's.
+  // The Jacobian's frame: the one named (igms-dyn bench's, from scripts/bench/peer_table.py), else the last body's.
   pinocchio::FrameIndex pframe = pm.frames.size() - 1;
   if (!frame_name.empty()) {
     if (!pm.existFrame(frame_name)) throw std::runtime_error(path + ": Pinocchio has no frame '" + frame_name + "'");
@@ -245,7 +245,7 @@ int main(int argc, char** argv) {
   int chain = 0;
   CLI::App app{"", "igms-peer-bench"};
   igms::cli::describe(app, "Pinocchio and MuJoCo on one URDF: median microseconds per call of the kernels igms-dyn "
-                           "bench times, as one JSON object (bench/peer_table.py compares).");
+                           "bench times, as one JSON object (scripts/bench/peer_table.py compares).");
   app.add_option("--model", model, "ROBOT.urdf")->check(CLI::ExistingFile);
   app.add_flag("--floating-base", floating, "a free root");
   app.add_option("--frame", frame, "the Jacobian's frame (default: the last body's)");

@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
       std::printf("%-62s skipped: %s\n", label, e.what());
     }
   }
-  // Robots from example-robot-data (scripts/fetch_robots.sh), pushed on a collision mesh and pulled.
+  // Robots from example-robot-data (scripts/setup/fetch_robots.sh), pushed on a collision mesh and pulled.
   struct RealRobot {
     const char* scene;
     const char* label;

@@ -4,11 +4,11 @@ option(IGMS_BUILD_BENCH "Build the benchmarks (needs KDL as the peer)" ON)
 option(IGMS_WITH_KDL "Cross-check and benchmark against KDL (tests and bench only)" ON)
 option(IGMS_WITH_LCM "Build the LCM message types and transport" ON)
 option(IGMS_WITH_WEB "Build the browser view (igms-viewer, the web device): websocketpp, Boost.Asio" ON)
-option(IGMS_WITH_PYTHON "Build the igms Python module (nanobind from the project's .venv: scripts/python_env.sh)" ON)
+option(IGMS_WITH_PYTHON "Build the igms Python module (nanobind from the project's .venv: scripts/setup/python_env.sh)" ON)
 # -march=native with code that includes KDL headers and links Debian's KDL
 # segfaults (Eigen alignment mismatch): off by default, never on KDL targets.
 option(IGMS_NATIVE "Compile the dynamics library with -march=native" OFF)
-# igms-peer-bench: Pinocchio and MuJoCo from their PyPI wheels (scripts/bench.sh --peers sets both).
+# igms-peer-bench: Pinocchio and MuJoCo from their PyPI wheels (scripts/bench/bench.sh --peers sets both).
 option(IGMS_PEER_BENCH "Build igms-peer-bench (needs PyPI pin and mujoco in IGMS_PEER_SITE)" OFF)
 set(IGMS_PEER_SITE "" CACHE PATH "The site-packages folder holding PyPI pin and mujoco (for IGMS_PEER_BENCH)")
 

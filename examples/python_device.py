@@ -7,7 +7,7 @@ simulated: a tip held by a hand (a mass on a spring-damper, the scripted
 device's hand) that follows timed targets and feels the rendered force. A lab
 replaces `Hand` with its device's SDK calls (read the tip, set the force).
 
-    PYTHONPATH=build/python:python $(scripts/python_env.sh) examples/python_device.py \\
+    PYTHONPATH=build/python:python $(scripts/setup/python_env.sh) examples/python_device.py \\
         --targets examples/device_plugin/paper_push.targets --lcm-url 'udpm://239.255.76.67:7667?ttl=0'
 
 The targets file is the example device plugin's (igms-haptic --export-targets
@@ -19,7 +19,7 @@ time to the first force that used it, p50 and p99, and the part of it the bus
 adds (the reading's age when the client's cycle read it, plus the force's way
 back); the rest is the servo cycle itself, which any device has.
 
-Needs `lcm` (PyPI; scripts/python_env.sh) and the generated types (build/python
+Needs `lcm` (PyPI; scripts/setup/python_env.sh) and the generated types (build/python
 or the installed package); with a key, `cryptography` (python3-cryptography).
 """
 import argparse

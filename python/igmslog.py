@@ -12,7 +12,7 @@
     log.client_status[-1].rate_hz             # the decoded status messages, in order
     log.counts, log.undecodable               # events per channel; messages that did not decode
 
-Needs the `lcm` module (PyPI: scripts/python_env.sh puts it in the project's
+Needs the `lcm` module (PyPI: scripts/setup/python_env.sh puts it in the project's
 .venv) and the generated message types (build/python, or the installed igms
 package). A .gz log is inflated to a temporary file first: LCM's EventLog reads
 plain files only (`zcat X.lcmlog.gz > X.lcmlog` does the same by hand).

@@ -11,7 +11,7 @@
 #
 # The bus stays inside a private network namespace (ttl=0, as every igms run);
 # the two web ports reach this machine's network through socat and a UNIX
-# socket, which namespaces share. Installs and builds first (scripts/setup.sh).
+# socket, which namespaces share. Installs and builds first (scripts/setup/setup.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=scenes/puma_obstacle.yaml
@@ -33,7 +33,7 @@ build=${IGMS_BUILD:-build}
 if [[ "${1:-}" == "" ]]; then
   # --- this machine's side: set up, bridge the two ports, run the session in a namespace ---
   [[ -f "$scene" ]] || { echo "live: no scene $scene" >&2; exit 2; }
-  [[ -n "${IGMS_LIVE_NO_SETUP:-}" ]] || scripts/setup.sh >/dev/null  # (tests: already built)
+  [[ -n "${IGMS_LIVE_NO_SETUP:-}" ]] || scripts/setup/setup.sh >/dev/null  # (tests: already built)
   sockets=$(mktemp -d /tmp/igms-live.XXXXXX)
   pids=()
   cleanup() {

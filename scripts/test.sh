@@ -5,6 +5,6 @@
 # minute of stress tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup/setup.sh
 cd build
 ctest --output-on-failure -j "$(nproc)" "$@"

@@ -28,7 +28,7 @@ namespace igms::python {
 
 namespace {
 
-// One hand's stretch of push or pull, as the session summary lists them (scripts/session_summary.py).
+// One hand's stretch of push or pull, as the session summary lists them (scripts/reports/session_summary.py).
 struct Interaction {
   int32_t client = -1;
   InteractionMode mode = InteractionMode::None;

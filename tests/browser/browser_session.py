@@ -26,7 +26,7 @@ def skip_without_chromium():
     except ImportError:
         missing.append("python3-selenium")
     if missing:
-        print("skipped: no Chromium (missing %s; scripts/setup.sh installs them)" % ", ".join(missing))
+        print("skipped: no Chromium (missing %s; scripts/setup/setup.sh installs them)" % ", ".join(missing))
         sys.exit(SKIP)
 
 

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""The accuracy report's contact section end to end, as scripts/accuracy.sh
+"""The accuracy report's contact section end to end, as scripts/reports/accuracy.sh
 runs it (--quick: h = 0.5, 1, 2 ms): igms-accuracy --contact (igms and ODE),
-its cases written for MuJoCo, scripts/contact_peers.py --accuracy in
-.venv-peers, scripts/contact_accuracy_report.py. Asserted:
+its cases written for MuJoCo, scripts/bench/contact_peers.py --accuracy in
+.venv-peers, scripts/reports/contact_accuracy_report.py. Asserted:
   - igms meets each case's goal at 1 ms (the tool's exit status);
   - igms and ODE, both first-order steppers with hard Coulomb contact, stop the
     sliding box at the same place (1e-6 m) at every step, and that place is
@@ -33,9 +33,9 @@ with tempfile.TemporaryDirectory() as tmp:
     check(run.returncode == 0, "igms meets every contact case's goal at 1 ms (igms-accuracy --contact exit 0)")
     os.mkdir(cases)
     subprocess.run([accuracy, "--contact", "--write-cases", cases], check=True)
-    subprocess.run([python, os.path.join(source, "scripts", "contact_peers.py"), "--accuracy", cases, "--csv", theirs,
+    subprocess.run([python, os.path.join(source, "scripts", "bench", "contact_peers.py"), "--accuracy", cases, "--csv", theirs,
                     "--quick"], check=True, cwd=source)
-    subprocess.run(["/usr/bin/python3", os.path.join(source, "scripts", "contact_accuracy_report.py"), ours, theirs, out],
+    subprocess.run(["/usr/bin/python3", os.path.join(source, "scripts", "reports", "contact_accuracy_report.py"), ours, theirs, out],
                    check=True)
     rows = list(csv.DictReader(open(ours))) + list(csv.DictReader(open(theirs)))
 

@@ -3,7 +3,7 @@
 scene (I = (1, 2, 3) kg m^2, w0 = (0.1, 5, 0.1) rad/s, zero gravity, a ground far below so contact is
 possible, 20 s at 1 ms), its CSV's quaternions; the flips (the body's y axis turning through the
 plane normal to the angular momentum, downward) against SciPy's DOP853 at 1e-12 on Euler's equations
-and the orientation's kinematics (scripts/free_body_truth.py in .venv-peers, the accuracy report's
+and the orientation's kinematics (scripts/reports/free_body_truth.py in .venv-peers, the accuracy report's
 truth). Asserted: as many flips; each flip's time within 1e-4 s of the truth's and the period within
 1e-5 (the issue's goal: 1 %).
 Usage: free_body_accuracy_test.py BUILD_DIR SOURCE_DIR"""
@@ -23,7 +23,7 @@ check = suite.check
 seconds = 20.0
 I, w0 = (1.0, 2.0, 3.0), (0.1, 5.0, 0.1)
 truth = json.loads(subprocess.run(
-    [suite.python, os.path.join(suite.source, "scripts", "free_body_truth.py"), "--inertia", *map(str, I),
+    [suite.python, os.path.join(suite.source, "scripts", "reports", "free_body_truth.py"), "--inertia", *map(str, I),
      "--w0", *map(str, w0), "--seconds", str(seconds)], capture_output=True, text=True, check=True).stdout)
 L = [i * w for i, w in zip(I, w0)]
 norm = math.sqrt(sum(x * x for x in L))

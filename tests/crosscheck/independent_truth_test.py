@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The accuracy report's independent truth and MuJoCo, end to end, as
-scripts/accuracy.sh runs them (short cases): igms writes the cases, SciPy's
+scripts/reports/accuracy.sh runs them (short cases): igms writes the cases, SciPy's
 DOP853 on Pinocchio's ABA and MuJoCo run them in .venv-peers, and igms
 measures against that truth. Asserted:
   - the independent truth agrees with igms's own (RK4 at 1/64 ms) to 1e-10 rad,
@@ -32,7 +32,7 @@ with tempfile.TemporaryDirectory() as tmp:
     common = ["--quick", "--duration", "0.256"]
     for c in cases:
         subprocess.run([accuracy, "--case", c, "--write-cases", d] + common, check=True)
-    subprocess.run([python, os.path.join(source, "scripts", "accuracy_peers.py"), d, "--quick", "--repeats", "1"],
+    subprocess.run([python, os.path.join(source, "scripts", "reports", "accuracy_peers.py"), d, "--quick", "--repeats", "1"],
                    check=True)
     rows, truths, ensemble = [], {}, []
     for c in cases:

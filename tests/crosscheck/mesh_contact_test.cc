@@ -101,7 +101,7 @@ double percentile(std::vector<double> v, double q) {
 
 TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
   const std::vector<MeshCase> cases = meshes();
-  if (cases.empty()) GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+  if (cases.empty()) GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   const MeshFieldOptions options;
   std::mt19937 rng(7);
   Stats all;
@@ -242,7 +242,7 @@ TEST(MeshContact, FieldAgainstFclOnEveryPandaAndUr5CollisionMesh) {
 
 TEST(MeshContact, ThePandaLoadsTouchableAndTheTipFindsItsLinks) {
   const fs::path urdf = robots() / "panda_description/urdf/panda.urdf";
-  if (!fs::exists(urdf)) GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+  if (!fs::exists(urdf)) GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   const auto t0 = std::chrono::steady_clock::now();
   const Model m = loadUrdfModel(urdf.string());
   const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

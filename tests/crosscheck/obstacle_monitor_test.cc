@@ -74,7 +74,7 @@ CollisionReport checkGhost(const Model& m, const Obstacle& o, const std::vector<
 
 TEST(ObstacleMonitor, ThePandasMeshesAgainstAnExactDistance) {
   if (!std::filesystem::exists(sourceDir() + "/third_party/example-robot-data/robots/panda_description"))
-    GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+    GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   Simulation sim(loadScene(sourceDir() + "/scenes/panda_obstacle.yaml"));
   const Model& m = sim.model();
   const std::vector<SE3> poses = sim.linkPoses();

@@ -2,7 +2,7 @@
 // (ODE's first-order errors shrink in proportion to h towards igms's RK4 ground
 // truth), igms's integrators converge at their order, and a free body keeps
 // its momentum. The short version of igms-accuracy (the full sweep:
-// scripts/accuracy.sh).
+// scripts/reports/accuracy.sh).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -26,7 +26,7 @@ def program_path(name):
         path = os.path.join(build, folder, name)
         if os.path.exists(path):
             return path
-    path = os.path.join(root, ".venv", "bin", name)  # igms-sweep: the Python module's (scripts/setup.sh)
+    path = os.path.join(root, ".venv", "bin", name)  # igms-sweep: the Python module's (scripts/setup/setup.sh)
     return path if os.path.exists(path) else None
 
 

@@ -12,7 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-IGMS_SESSION_PORT=7808 scripts/run_session.sh scenes/puma_table.yaml scenes/push_demo.yaml "$out" --seconds 60
+IGMS_SESSION_PORT=7808 scripts/sessions/run_session.sh scenes/puma_table.yaml scenes/push_demo.yaml "$out" --seconds 60
 build/tools/igms-replay resim "$out/session.lcmlog" | tee "$out/resim.txt"
 grep -q "identical to the recording, bit for bit" "$out/resim.txt" || { echo "environment_session_test: not bit for bit"; exit 1; }
 [[ -s $out/export/environment.csv ]] || { echo "environment_session_test: no environment.csv"; exit 1; }
@@ -34,7 +34,7 @@ bad = [what for ok, what in checks if not ok]
 print("environment_session_test:", "ok" if not bad else "failed: " + "; ".join(bad))
 sys.exit(1 if bad else 0)
 PY
-python=$(scripts/python_env.sh)
+python=$(scripts/setup/python_env.sh)
 PYTHONPATH="python:build/python" "$python" - "$out/session.lcmlog" <<'PY'
 import sys
 import numpy as np

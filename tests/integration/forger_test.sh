@@ -47,12 +47,12 @@ run() {  # OUT_DIR with_forger
   sleep 0.5
   igms_stop_all
   "$build/tools/igms-replay" export "$out/session.lcmlog" "$out/export" 2>/dev/null
-  /usr/bin/python3 scripts/session_summary.py "$out" "$(basename "$out")" > /dev/null
+  /usr/bin/python3 scripts/reports/session_summary.py "$out" "$(basename "$out")" > /dev/null
 }
 
 run "$work/alone" 0
 run "$work/forged" 1
-python=$(scripts/python_env.sh)  # the project's .venv: PyPI's lcm for igmslog
+python=$(scripts/setup/python_env.sh)  # the project's .venv: PyPI's lcm for igmslog
 PYTHONPATH="$PWD/python:$build/python" "$python" - "$work" "$IGMS_KEY_FILE" <<'PY'
 import json, os, re, sys
 work, key_file = sys.argv[1], sys.argv[2]

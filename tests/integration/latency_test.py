@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The haptic loop across a rehearsed network, over the real bus: igms-server on
 its realtime clock, igms-relay delaying, jittering and dropping both directions,
-igms-haptic on the paper's push and pull scripts (bench/latency_bench.py
+igms-haptic on the paper's push and pull scripts (scripts/bench/latency_bench.py
 --quick). Each case must hold the servo rate, never step the rendered force by
 more than 1 N a cycle, never declare the server lost, keep the passivity
 observer's energy balance where physics alone puts it, and end collision-free
@@ -27,7 +27,7 @@ def main():
             f.write(os.urandom(32).hex() + "\n")
         os.environ["IGMS_KEY_FILE"] = key  # every process the bench starts signs and checks
         out = os.path.join(tmp, "results.json")
-        subprocess.run([sys.executable, os.path.join(ROOT, "bench/latency_bench.py"), "--quick", "--build", build,
+        subprocess.run([sys.executable, os.path.join(ROOT, "scripts/bench/latency_bench.py"), "--quick", "--build", build,
                         "--out", tmp, "--port", "7850", "--json", out], check=True)
         for r in json.load(open(out)):
             case = f"{r['experiment']} at {r['delay_ms']:g} ms +-{r['jitter_ms']:g} ms, {r['loss'] * 100:g} % loss"

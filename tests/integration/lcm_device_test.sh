@@ -24,7 +24,7 @@ work=$(mktemp -d /tmp/igms-lcmdev.XXXXXX)
 trap 'igms_stop_all; igms_drop_key; rm -rf "$work"' EXIT
 url="udpm://239.255.76.67:$port?ttl=0"
 scene=scenes/puma_obstacle.yaml
-python=$(scripts/python_env.sh)
+python=$(scripts/setup/python_env.sh)
 export PYTHONPATH="$PWD/python:$build/python"
 igms_use_key
 
@@ -46,7 +46,7 @@ run() {  # OUT_DIR with_bad_readings [quiet: no logger, for the latency alone]
   igms_stop_all
   [[ $quiet == 0 ]] || return 0
   "$build/tools/igms-replay" export "$out/session.lcmlog" "$out/export" 2>/dev/null
-  /usr/bin/python3 scripts/session_summary.py "$out" "$(basename "$out")" > /dev/null
+  /usr/bin/python3 scripts/reports/session_summary.py "$out" "$(basename "$out")" > /dev/null
 }
 
 device_options="--max-stiffness 800" run "$work/quiet" 0 1  # an Omni's: the coupling is felt scaled

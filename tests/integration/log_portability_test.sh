@@ -18,7 +18,7 @@ port=$2
 session_port=$3
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-python=$("$src/scripts/python_env.sh")
+python=$("$src/scripts/setup/python_env.sh")
 
 for log in "$src"/tests/replay/data/*.lcmlog*; do
   name=$(basename "$log")
@@ -64,7 +64,7 @@ if [[ -x $build/tools/igms-ode-ref ]]; then
 fi
 
 # Two robots, recorded now (run_session.sh: lockstep server, the scripted hand, the logger).
-(cd "$src" && IGMS_BUILD="$build" IGMS_SESSION_PORT=$session_port scripts/run_session.sh scenes/workcell.yaml \
+(cd "$src" && IGMS_BUILD="$build" IGMS_SESSION_PORT=$session_port scripts/sessions/run_session.sh scenes/workcell.yaml \
    scenes/push_demo.yaml "$tmp/workcell" --seconds 2 >/dev/null)
 mkdir "$tmp/elsewhere2"
 cp "$tmp/workcell/session.lcmlog" "$tmp/elsewhere2/"

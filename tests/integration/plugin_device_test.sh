@@ -58,7 +58,7 @@ run() {  # OUT_DIR DEVICE [client options]
   sleep 0.5
   igms_stop_all
   "$build/tools/igms-replay" export "$out/session.lcmlog" "$out/export" 2>/dev/null
-  /usr/bin/python3 scripts/session_summary.py "$out" "$(basename "$out")" > /dev/null
+  /usr/bin/python3 scripts/reports/session_summary.py "$out" "$(basename "$out")" > /dev/null
 }
 
 sed '/^hand:/d' scenes/paper_push.yaml > "$work/paper_push_rigid.yaml"
@@ -190,7 +190,7 @@ check "$(grep -q 'coupling: the scene.s springs are 8000 N/m at the device (k x 
 nan=$(grep "device read" "$work/slow/nan.log" | sed -n 's/.* \([0-9]*\) failed calls.*/\1/p')
 check "$([[ ${nan:-0} -ge 90 && ${nan:-0} -le 110 ]] && echo 1)" "a NaN reading every 10 cycles: counted as failed, the last good one stands" \
   "${nan:-none} failed calls in 1 s"
-PYTHONPATH="$PWD/python:$build/python" "$(scripts/python_env.sh)" - "$work/slow/status.lcmlog" <<'PY' || fails=$((fails + 1))
+PYTHONPATH="$PWD/python:$build/python" "$(scripts/setup/python_env.sh)" - "$work/slow/status.lcmlog" <<'PY' || fails=$((fails + 1))
 import sys
 import lcm
 from igms import device_status_t

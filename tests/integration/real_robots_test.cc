@@ -1,4 +1,4 @@
-// Robots as users have them (example-robot-data, scripts/fetch_robots.sh),
+// Robots as users have them (example-robot-data, scripts/setup/fetch_robots.sh),
 // in-process and deterministic (the client's logic driving the server's step
 // in lockstep): a push on a collision mesh moves the touched link off its
 // nominal path, a pull drags the end-effector toward the device. Skipped when
@@ -43,7 +43,7 @@ struct Case {
 class RealRobot : public ::testing::TestWithParam<Case> {};
 
 TEST_P(RealRobot, PushMovesTheTouchedMeshLinkAndPullDragsTheHand) {
-  if (!fetched()) GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+  if (!fetched()) GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   const Case& c = GetParam();
   const Scene scene = loadScene(sourceDir() + "/scenes/" + c.scene);
   const ResolvedScene resolved = resolveScene(scene);

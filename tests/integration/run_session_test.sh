@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/run_session.sh on a robot that is not the PUMA (the Panda from
+# scripts/sessions/run_session.sh on a robot that is not the PUMA (the Panda from
 # example-robot-data, pushed on link 4): the session runs, the plots are
 # written, and the summary follows the scene's own end-effector and target
 # (it used to need the PUMA's ee_link). Exit 77 (skipped) without the models.
@@ -9,7 +9,7 @@ cd "$(dirname "$0")/../.."
 [[ -d third_party/example-robot-data/robots/panda_description ]] || { echo "skipped: example-robot-data not fetched"; exit 77; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-IGMS_SESSION_PORT=7806 scripts/run_session.sh scenes/panda_obstacle.yaml scenes/panda_push.yaml "$out" --seconds 4
+IGMS_SESSION_PORT=7806 scripts/sessions/run_session.sh scenes/panda_obstacle.yaml scenes/panda_push.yaml "$out" --seconds 4
 for f in summary.md summary.json joints.png forces.png path.png snapshots.png edited_trajectory.yaml; do
   [[ -s $out/$f ]] || { echo "run_session_test: $f missing"; exit 1; }
 done

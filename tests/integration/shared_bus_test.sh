@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The README's multi-terminal workflow, as separate commands: a logger, a
-# server and igms-spy each started on their own by `scripts/bus.sh run` hear
+# server and igms-spy each started on their own by `scripts/sessions/bus.sh run` hear
 # each other on the shared private bus, and a viewer on it serves a browser
-# outside through `scripts/bus.sh port`; and tools that hear nothing say so:
+# outside through `scripts/sessions/bus.sh port`; and tools that hear nothing say so:
 # a spy and a logger in one-shot namespaces of their own print "nothing heard"
 # and exit 1, as does `igms-replay play` when its filter matches nothing.
 #   tests/integration/shared_bus_test.sh BUILD_DIR PORT
@@ -17,7 +17,7 @@ cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   pkill -f "igms-viewer --lcm-url $url" 2>/dev/null || true
   wait 2>/dev/null || true
-  "$src/scripts/bus.sh" down 2>/dev/null || true
+  "$src/scripts/sessions/bus.sh" down 2>/dev/null || true
   rm -rf "$tmp"
 }
 trap cleanup EXIT
@@ -25,12 +25,12 @@ cd "$src"
 fail() { echo "shared_bus_test: $*" >&2; exit 1; }
 
 # Three "terminals".
-scripts/bus.sh run "$build/tools/igms-logger" "$tmp/session.lcmlog" --lcm-url "$url" --duration 4 -q & pids+=($!)
+scripts/sessions/bus.sh run "$build/tools/igms-logger" "$tmp/session.lcmlog" --lcm-url "$url" --duration 4 -q & pids+=($!)
 sleep 0.3
-scripts/bus.sh run "$build/server/igms-server" --scene scenes/puma_wall.yaml --lcm-url "$url" --duration 3 --quiet &
+scripts/sessions/bus.sh run "$build/server/igms-server" --scene scenes/puma_wall.yaml --lcm-url "$url" --duration 3 --quiet &
 pids+=($!)
 sleep 1
-scripts/bus.sh run "$build/tools/igms-spy" --lcm-url "$url" --once --json > "$tmp/spy.json"
+scripts/sessions/bus.sh run "$build/tools/igms-spy" --lcm-url "$url" --once --json > "$tmp/spy.json"
 wait "${pids[0]}" || fail "the logger failed"
 python3 - "$tmp/spy.json" <<'PY'
 import json, sys
@@ -43,8 +43,8 @@ echo "logger on the shared bus: $events events"
 (( events > 1000 )) || fail "the logger recorded $events events"
 
 # igms-spy --json stays JSON whatever a channel is called (quotes, backslashes: it once printed them raw).
-python=$("$src/scripts/python_env.sh")
-scripts/bus.sh run "$python" -c '
+python=$("$src/scripts/setup/python_env.sh")
+scripts/sessions/bus.sh run "$python" -c '
 import lcm, sys, time
 bus = lcm.LCM(sys.argv[1])
 end = time.time() + 2.0
@@ -52,7 +52,7 @@ while time.time() < end:
     bus.publish(sys.argv[2], b"not an igms message")
     time.sleep(0.01)' "$url" 'we"ird\chan' & pids+=($!)
 sleep 0.3
-scripts/bus.sh run "$build/tools/igms-spy" --lcm-url "$url" --once --json > "$tmp/spy_odd.json" || fail "spy heard nothing"
+scripts/sessions/bus.sh run "$build/tools/igms-spy" --lcm-url "$url" --once --json > "$tmp/spy_odd.json" || fail "spy heard nothing"
 python3 - "$tmp/spy_odd.json" <<'PY'
 import json, sys
 spy = json.load(open(sys.argv[1]))
@@ -61,15 +61,15 @@ assert odd["count"] > 10 and odd["type"] == "", odd
 print("spy --json with the channel we\"ird\\chan: valid JSON, %d messages" % odd["count"])
 PY
 
-# A browser outside the bus reaches a viewer on it (scripts/bus.sh port).
+# A browser outside the bus reaches a viewer on it (scripts/sessions/bus.sh port).
 if [[ -x $build/tools/igms-viewer ]]; then
   web_port=$(( $2 + 10000 ))
-  scripts/bus.sh run "$build/tools/igms-viewer" --lcm-url "$url" --port "$web_port" >/dev/null 2>&1 & pids+=($!)
+  scripts/sessions/bus.sh run "$build/tools/igms-viewer" --lcm-url "$url" --port "$web_port" >/dev/null 2>&1 & pids+=($!)
   sleep 0.5
-  scripts/bus.sh port "$web_port" 2>/dev/null & pids+=($!)
+  scripts/sessions/bus.sh port "$web_port" 2>/dev/null & pids+=($!)
   for _ in $(seq 50); do python3 -c "import sys, urllib.request; open(sys.argv[2], 'wb').write(urllib.request.urlopen(sys.argv[1], timeout=2).read())" "http://127.0.0.1:$web_port/" "$tmp/page.html" 2>/dev/null && break; sleep 0.1; done
-  grep -q "igms live view" "$tmp/page.html" || fail "the viewer's page did not come through scripts/bus.sh port"
-  echo "the viewer's page through scripts/bus.sh port $web_port: $(wc -c < "$tmp/page.html") bytes"
+  grep -q "igms live view" "$tmp/page.html" || fail "the viewer's page did not come through scripts/sessions/bus.sh port"
+  echo "the viewer's page through scripts/sessions/bus.sh port $web_port: $(wc -c < "$tmp/page.html") bytes"
   pkill -f "TCP-LISTEN:$web_port" || true
 fi
 

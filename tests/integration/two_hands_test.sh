@@ -16,7 +16,7 @@ cd "$src"
 export IGMS_BUILD=$build
 source scripts/lib/session.sh
 igms_in_netns "$src/tests/integration/two_hands_test.sh" "$@"
-python=$("$src/scripts/python_env.sh")
+python=$("$src/scripts/setup/python_env.sh")
 tmp=$(mktemp -d)
 trap 'igms_stop_all; rm -rf "$tmp"' EXIT
 url="udpm://239.255.76.67:$port?ttl=0"

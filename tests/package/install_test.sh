@@ -41,7 +41,7 @@ assert abs(tau[1]) > 1.0, tau
 PY
 
 # The installed Python types (lcm from the project's .venv) read a committed log.
-python=$("$src/scripts/python_env.sh")
+python=$("$src/scripts/setup/python_env.sh")
 pydir=$(find "$prefix/lib" -maxdepth 3 -type d -name dist-packages | head -1)
 PYTHONPATH=$pydir "$python" - "$src/tests/replay/data/push.lcmlog" <<'PY'
 import sys

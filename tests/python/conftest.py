@@ -14,10 +14,10 @@ def at_root(monkeypatch):
 
 
 def robot(path):
-    """A model from example-robot-data (scripts/fetch_robots.sh), or a skip without it."""
+    """A model from example-robot-data (scripts/setup/fetch_robots.sh), or a skip without it."""
     full = os.path.join(ROOT, "third_party", "example-robot-data", "robots", path)
     if not os.path.exists(full):
-        pytest.skip(f"{path}: example-robot-data is not fetched (scripts/fetch_robots.sh)")
+        pytest.skip(f"{path}: example-robot-data is not fetched (scripts/setup/fetch_robots.sh)")
     return full
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `pip install .` into a fresh virtual environment (no system packages): scikit-build-core and
 # nanobind come from PyPI, CMake builds the module, and the installed package works away from the
-# source tree: a scene steps, a kernel runs, igms-sweep answers. (Debian's C++ packages: scripts/setup.sh.)
+# source tree: a scene steps, a kernel runs, igms-sweep answers. (Debian's C++ packages: scripts/setup/setup.sh.)
 #   tests/python/pip_install_test.sh SOURCE_DIR
 set -euo pipefail
 src=$(cd "$1" && pwd)

@@ -3,7 +3,7 @@
 // paper's push and pull experiments, gzip-compressed), re-simulated
 // offline. The deviation from the recording stays within tolerance, and two
 // re-simulations of one log give identical bits. When a change of behaviour
-// is intended, re-record with scripts/record_replay_suite.sh (it shows the
+// is intended, re-record with scripts/sessions/record_replay_suite.sh (it shows the
 // deviation first) and --accept.
 #include <gtest/gtest.h>
 

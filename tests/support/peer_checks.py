@@ -12,7 +12,7 @@ class PeerCheck:
         self.python = os.path.join(self.source, ".venv-peers", "bin", "python")
         self.failures = []
         if not os.path.exists(self.python):
-            sys.exit(f"{self.python} is missing: scripts/peer_env.sh installs it (scripts/setup.sh runs it)")
+            sys.exit(f"{self.python} is missing: scripts/setup/peer_env.sh installs it (scripts/setup/setup.sh runs it)")
 
     def check(self, ok, what):
         print(("ok   " if ok else "FAIL ") + what)

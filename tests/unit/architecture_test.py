@@ -7,7 +7,7 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-CHECK = os.path.join(ROOT, 'scripts', 'check_architecture.py')
+CHECK = os.path.join(ROOT, 'scripts', 'checks', 'check_architecture.py')
 RULES = os.path.join(ROOT, 'docs', 'architecture.md')
 
 

@@ -68,9 +68,9 @@ else
 fi
 
 # bus.sh keeps its key in such a folder: its path names the user's folder, not /tmp/igms-bus-NAME.key.
-path=$(XDG_RUNTIME_DIR=$work IGMS_BUS=keytest bash -c 'source scripts/lib/bus_key.sh; grep -o "key_folder=.*" scripts/bus.sh | head -1')
+path=$(XDG_RUNTIME_DIR=$work IGMS_BUS=keytest bash -c 'source scripts/lib/bus_key.sh; grep -o "key_folder=.*" scripts/sessions/bus.sh | head -1')
 check "bus.sh's key folder is per user" grep -q 'igms-bus-$(id -u)' <<< "$path"
-refused "bus.sh refuses a bus name that is a path" "is a name" env IGMS_BUS=../x scripts/bus.sh key
+refused "bus.sh refuses a bus name that is a path" "is a name" env IGMS_BUS=../x scripts/sessions/bus.sh key
 
 if ((failures > 0)); then
   echo "bus_key_script_test: $failures failed"

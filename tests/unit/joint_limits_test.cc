@@ -106,7 +106,7 @@ TEST(JointLimits, InsideTheLimitsTheDynamicsAreUnchangedBitForBit) {
 TEST(JointLimits, ThePandasFingersStayInTheirRangeThroughAPull) {
   const std::string scene_file = sourceDir() + "/scenes/panda_obstacle.yaml";
   if (!std::filesystem::exists(sourceDir() + "/third_party/example-robot-data/robots/panda_description"))
-    GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+    GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   Simulation sim(loadScene(scene_file));
   const Model& m = sim.model();
   InteractionInput pull;

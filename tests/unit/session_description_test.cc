@@ -59,7 +59,7 @@ TEST(SessionDescription, ALogFromBeforeTheCouplingDamperReplaysWithout) {
 
 TEST(SessionDescription, HashesTheMeshesAndAReplayNamesTheOnesThatDiffer) {
   if (!std::filesystem::exists(sourceDir() + "/third_party/example-robot-data/robots/panda_description"))
-    GTEST_SKIP() << "example-robot-data not fetched (scripts/fetch_robots.sh)";
+    GTEST_SKIP() << "example-robot-data not fetched (scripts/setup/fetch_robots.sh)";
   Simulation sim(loadScene(sourceDir() + "/scenes/panda_obstacle.yaml"));
   const session_info_t info = describeSession(sim, "lockstep");
   ASSERT_GT(info.nmeshes, 10);  // collision and visual meshes of the links

@@ -4,8 +4,8 @@
 // ball resting on a mesh), each simulated by igms and by ODE's dWorldStep at
 // h = 0.25 .. 4 ms, each run's error against the analytic answer beside its
 // wall time per simulated second. The same case scenes are written for
-// scripts/contact_peers.py --accuracy, which puts MuJoCo's mj_step on the
-// same axes; scripts/accuracy_report.py draws the three together.
+// scripts/bench/contact_peers.py --accuracy, which puts MuJoCo's mj_step on the
+// same axes; scripts/reports/accuracy_report.py draws the three together.
 #pragma once
 
 #include <string>

@@ -1,15 +1,15 @@
 // igms-accuracy: error against run time for igms's integrators and ODE.
 //   igms-accuracy [--case NAME|all] [--quick] [--duration S] [--repeats N] [--csv FILE]
 //                 [--reference DIR [--truth-csv FILE]] [--ensemble N --ensemble-csv FILE]
-//   igms-accuracy --write-cases DIR [--quick] [--duration S]   the cases for scripts/accuracy_peers.py
+//   igms-accuracy --write-cases DIR [--quick] [--duration S]   the cases for scripts/reports/accuracy_peers.py
 //   igms-accuracy --extreme [--quick] [--csv FILE]    the stiff and extreme cases' table
 //   igms-accuracy --stiffness [--csv FILE]            the stability table alone (step matrices)
 //   igms-accuracy --contact [--quick] [--csv FILE]    contact cases with analytic answers, igms and ODE
-//   igms-accuracy --contact --write-cases DIR         those cases' scenes for scripts/contact_peers.py
+//   igms-accuracy --contact --write-cases DIR         those cases' scenes for scripts/bench/contact_peers.py
 // For each case: igms's own ground truth is RK4 at h = 1/64 ms, checked against
 // RK4 at 1/128 ms (the step-halving difference is printed). With --reference,
 // the truth is the independent one in DIR (DOP853 on Pinocchio's ABA, written
-// by scripts/accuracy_peers.py) and igms's own is checked against it; every method then
+// by scripts/reports/accuracy_peers.py) and igms's own is checked against it; every method then
 // runs at h = 1/64 ms ... 32 ms (doubling; --quick: 0.25 ms ... 4 ms) and each
 // row gives its errors against the truth and its run time per simulated second
 // (the median of --repeats runs, 3 by default, for every run shorter than 2 s
@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
                "when igms misses a goal at 1 ms); with --write-cases, their scenes");
   app.add_flag("--stiffness", o.stiffness, "the stability table alone (each scheme's step matrix on a spring and damper)");
   app.add_option("--reference", o.reference,
-                 "measure against the independent truth in DIR (<case>.truth.json, scripts/accuracy_peers.py)")
+                 "measure against the independent truth in DIR (<case>.truth.json, scripts/reports/accuracy_peers.py)")
       ->check(CLI::ExistingDirectory);
   app.add_option("--truth-csv", o.truth_csv, "with --reference: how each truth agrees with the others, as CSV")
       ->needs("--reference");

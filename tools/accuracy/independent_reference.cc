@@ -82,7 +82,7 @@ bool hasReference(const Case& c, const std::string& dir) {
 Reference readReference(const Case& c, const std::string& dir) {
   const std::string path = dir + "/" + c.name + ".truth.json";
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open (run scripts/accuracy_peers.py first)");
+  if (!in) throw std::runtime_error(path + ": cannot open (run scripts/reports/accuracy_peers.py first)");
   const Model& m = *c.model;
   Reference ref;
   try {

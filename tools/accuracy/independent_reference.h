@@ -1,4 +1,4 @@
-// The exchange with the independent ground truth (scripts/accuracy_peers.py:
+// The exchange with the independent ground truth (scripts/reports/accuracy_peers.py:
 // SciPy's DOP853 on Pinocchio's articulated-body algorithm, and MuJoCo's
 // integrators on the same axes). igms writes each case as a URDF plus a JSON
 // description in its own coordinate order; the script writes back the truth

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   igms::cli::describe(app,
                       "Sends one command to igms-server and reports whether it was taken. Signed with the bus key "
                       "when there is one; else it carries the session token from the server's status. Run it "
-                      "inside scripts/bus.sh run (or the namespace the server runs in).");
+                      "inside scripts/sessions/bus.sh run (or the namespace the server runs in).");
   app.add_option("--lcm-url", url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
   app.add_option("--key-file", key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_option("--timeout", timeout, "seconds to wait for the server's status")->check(igms::cli::positive("S"));

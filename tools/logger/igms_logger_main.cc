@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
     } else if (!silence_said && std::chrono::duration<double>(now - last_heard).count() >= o.silence_s) {
       std::fprintf(stderr,
                    "igms-logger: nothing heard on %s for %.0f s%s (is the server on this bus? processes started by "
-                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/bus.sh run)\n",
+                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/sessions/bus.sh run)\n",
                    url.c_str(), o.silence_s, heard ? " since the last message" : "");
       silence_said = true;
     }

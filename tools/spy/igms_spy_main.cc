@@ -403,7 +403,7 @@ int main(int argc, char** argv) {
   // Loud silence: a spy in the wrong network namespace or on the wrong URL hears nothing, and says so.
   const std::string silence = "nothing heard on " + where +
                               " (is the server on this bus? processes started by separate scripts/netns_run.sh calls "
-                              "do not hear each other: use scripts/bus.sh run)";
+                              "do not hear each other: use scripts/sessions/bus.sh run)";
   int64_t heard = 0;
   double last_heard = start;
   while (!g_stop) {

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     } else if (!silence_said && now - last_heard >= std::chrono::seconds(3)) {
       std::fprintf(stderr,
                    "igms-viewer: no robot state on %s for 3 s%s (is the server on this bus? processes started by "
-                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/bus.sh run)\n",
+                   "separate scripts/netns_run.sh calls do not hear each other: use scripts/sessions/bus.sh run)\n",
                    url.c_str(), states ? " since the last one" : "");
       silence_said = true;
     }

@@ -1,0 +1,190 @@
+#!/usr/bin/python3
+"""The haptic truth suite: what the hand feels against what physics says it must (scenes/truth/cases.yaml,
+docs/haptic_truth.md). Each case runs with a rigid hand and with a simulated one, in-process
+(igms-scenario, lockstep) and over the real bus through the client, igms-relay delaying each direction by
+0, 2 and 20 ms (the server on its realtime clock; the client records every cycle with --record). Prints the
+table; with --check, exits 1 unless every run meets the goals:
+  the felt mean within 1 % of the answer in-process and at 0 ms, 3 % at 2 ms, 10 % at 20 ms (of the case's
+  scale where the answer is 0); the ripple (standard deviation over the window) within 5 % of the scale;
+  the largest force step within the device's bound (1 N); the wall's proxy never past its face.
+Over the bus it must run inside a private network namespace (scripts/netns_run.sh; --in-process needs none).
+  scripts/bench/haptic_truth.py [--check] [--in-process] [--cases a,b] [--delays 0,2,20] [--out DIR] [--json F]"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import yaml
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from processes import stop_all  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+TRUTH = os.path.join(ROOT, "scenes", "truth")
+TOLERANCE = {None: 0.01, 0: 0.01, 2: 0.03, 20: 0.10}  # of the answer (or scale), by one-way delay (None: in-process)
+RIPPLE = 0.05
+MAX_STEP = 1.0  # N a cycle: the device's bound (simulatedDeviceLimits)
+
+
+def script_end(path):
+    return float(yaml.safe_load(open(path))["end"])
+
+
+def read_series(path, columns):
+    rows = list(csv.DictReader(open(path)))
+    t = np.array([float(r["t"]) for r in rows])
+    out = {"t": t}
+    for key, names in columns.items():
+        out[key] = np.array([[float(r[n]) for n in names] for r in rows])
+    return out
+
+
+def in_process(build, case, hand, out):
+    script = os.path.join(TRUTH, case["scripts"][hand])
+    path = os.path.join(out, f"{case['name']}_{hand}_inprocess.csv")
+    subprocess.run([f"{build}/tools/igms-scenario", "--scene", os.path.join(TRUTH, case["scene"]), "--device",
+                    "scripted:" + script, "--seconds", str(script_end(script)), "--device-limits", "--csv", path],
+                   check=True, stdout=subprocess.DEVNULL)
+    # The scenario's step k renders at the end of step k: its t is the script's time one step on.
+    s = read_series(path, {"force": ["hand_fx", "hand_fy", "hand_fz"], "tip": ["tip_x", "tip_y", "tip_z"],
+                           "proxy": ["proxy_x", "proxy_y", "proxy_z"]})
+    s["t"] = s["t"] - 0.001
+    return s
+
+
+def over_bus(build, case, hand, delay, out, port, client_args=(), return_log=False):
+    """Server (realtime) <- relay (delay each way) <- client (--record); returns the client's record (and its
+    stderr with return_log)."""
+    script = os.path.join(TRUTH, case["scripts"][hand])
+    scene = os.path.join(TRUTH, case["scene"])  # an absolute scene path stands as it is
+    server_url = f"udpm://239.255.76.67:{port}?ttl=0"
+    client_url = f"udpm://239.255.76.67:{port + 1}?ttl=0"
+    path = os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.csv")
+    log = open(os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.log"), "w")
+    procs = []
+    try:
+        procs.append(subprocess.Popen([f"{build}/server/igms-server", "--scene", scene, "--lcm-url", server_url,
+                                       "--clock", "realtime", "--quiet"], stdout=subprocess.DEVNULL, stderr=log))
+        procs.append(subprocess.Popen([f"{build}/tools/igms-relay", "--client-url", client_url, "--server-url",
+                                       server_url, "--delay-ms", str(delay), "--seed", "7"],
+                                      stdout=subprocess.DEVNULL, stderr=log))
+        time.sleep(0.3)
+        client = subprocess.run([f"{build}/haptic_client/igms-haptic", "--scene", scene, "--device",
+                                 "scripted:" + script, "--lcm-url", client_url, "--record", path] + list(client_args),
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
+        log.write(client.stderr)
+        if client.returncode != 0:
+            raise RuntimeError(f"igms-haptic exited {client.returncode}: {client.stderr[-600:]}")
+    finally:
+        stop_all(procs)
+    s = read_series(path, {"force": ["rendered_x", "rendered_y", "rendered_z"], "tip": ["tip_x", "tip_y", "tip_z"],
+                           "proxy": ["proxy_x", "proxy_y", "proxy_z"]})
+    return (s, client.stderr) if return_log else s
+
+
+def measure(case, s):
+    d = np.array(case["direction"], dtype=float)
+    felt = s["force"] @ d
+    t = s["t"]
+    r = {"max_step": float(np.abs(np.diff(s["force"], axis=0)).max()) if len(t) > 1 else 0.0}
+    if case["measure"] == "peak":
+        r["value"] = float(felt.max())
+        r["ripple"] = None
+    else:
+        lo, hi = case["window"]
+        m = (t >= lo) & (t <= hi)
+        if case["measure"] == "mean":
+            r["value"] = float(felt[m].mean())
+            r["ripple"] = float(felt[m].std())
+        else:  # stiffness: force over the tip's depth behind its proxy, along the direction
+            depth = (s["tip"][m] - s["proxy"][m]) @ -d
+            r["value"] = float(np.median(felt[m] / depth))
+            r["ripple"] = None
+    if "face" in case:  # how far the proxy's centre got past the face (m; <= 0: never)
+        n = np.array(case["face"]["normal"], dtype=float)
+        r["passed"] = float(((np.array(case["face"]["point"]) - s["proxy"]) @ n).max())
+    return r
+
+
+def judge(case, delay, r):
+    answer = float(case["answer"])
+    scale = float(case.get("scale", abs(answer)))
+    tol = TOLERANCE[delay]
+    fails = []
+    r["error"] = (r["value"] - answer) / scale
+    if abs(r["error"]) > tol:
+        fails.append(f"felt {r['value']:.4g} against {answer:.4g}: {r['error'] * 100:+.2f} % of {scale:.4g} "
+                     f"(bound {tol * 100:g} %)")
+    if r["ripple"] is not None and r["ripple"] > RIPPLE * scale:
+        fails.append(f"ripple {r['ripple']:.4g} over {RIPPLE * 100:g} % of {scale:.4g}")
+    if r["max_step"] > MAX_STEP + 1e-9:
+        fails.append(f"force step {r['max_step']:.3g} N over the device's {MAX_STEP:g} N")
+    if r.get("passed", -1.0) > 1e-9:
+        fails.append(f"the proxy passed the face by {r['passed'] * 1e3:.3g} mm")
+    return fails
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--check", action="store_true", help="exit 1 unless every run meets the goals")
+    p.add_argument("--in-process", action="store_true", help="only the in-process runs (no bus, no namespace)")
+    p.add_argument("--cases", help="comma-separated case names (default: all)")
+    p.add_argument("--hands", default="rigid,hand")
+    p.add_argument("--delays", default="0,2,20", help="one-way delays over the bus, ms")
+    p.add_argument("--build", default=os.environ.get("IGMS_BUILD", os.path.join(ROOT, "build")))
+    p.add_argument("--out", default=os.path.join(ROOT, "out", "haptic_truth"))
+    p.add_argument("--port", type=int, default=7890)
+    p.add_argument("--json", help="write the results here too")
+    args = p.parse_args()
+    build = os.path.abspath(args.build)
+    os.makedirs(args.out, exist_ok=True)
+    cases = yaml.safe_load(open(os.path.join(TRUTH, "cases.yaml")))["cases"]
+    if args.cases:
+        wanted = args.cases.split(",")
+        cases = [c for c in cases if c["name"] in wanted]
+    delays = [None] + ([] if args.in_process else [int(float(d)) for d in args.delays.split(",") if d != ""])
+    results, failures = [], []
+    for case in cases:
+        for hand in args.hands.split(","):
+            for delay in delays:
+                where = "in-process" if delay is None else f"bus {delay} ms"
+                s = in_process(build, case, hand, args.out) if delay is None else \
+                    over_bus(build, case, hand, delay, args.out, args.port)
+                r = measure(case, s)
+                fails = judge(case, delay, r)
+                r.update({"case": case["name"], "hand": hand, "path": where, "answer": case["answer"],
+                          "formula": case["formula"], "ok": not fails, "failures": fails})
+                results.append(r)
+                failures += [f"{case['name']} {hand} {where}: {f}" for f in fails]
+                ripple = "" if r["ripple"] is None else f", ripple {r['ripple']:.3g}"
+                print(f"{'ok  ' if not fails else 'FAIL'} {case['name']:14} {hand:5} {where:10} felt {r['value']:.4f} "
+                      f"(answer {case['answer']}: {r['error'] * 100:+.2f} %){ripple}, step {r['max_step']:.3f} N"
+                      + (f"; {'; '.join(fails)}" if fails else ""), flush=True)
+    print()
+    print("| case | answer | hand | in-process | bus 0 ms | bus 2 ms | bus 20 ms |")
+    print("|---|---|---|---:|---:|---:|---:|")
+    for case in cases:
+        for hand in args.hands.split(","):
+            cells = []
+            for where in ("in-process", "bus 0 ms", "bus 2 ms", "bus 20 ms"):
+                r = next((x for x in results if x["case"] == case["name"] and x["hand"] == hand and
+                          x["path"] == where), None)
+                if r is None:
+                    cells.append("")
+                    continue
+                ripple = "" if r["ripple"] is None else f" ± {r['ripple']:.3g}"
+                cells.append(f"{r['value']:.4g}{ripple} ({r['error'] * 100:+.2f} %)")
+            print(f"| {case['name']} | {case['formula']} = {case['answer']} | {hand} | " + " | ".join(cells) + " |")
+    if args.json:
+        json.dump(results, open(args.json, "w"), indent=1)
+    if failures:
+        print(f"\n{len(failures)} runs off the goals:\n  " + "\n  ".join(failures), file=sys.stderr)
+    return 1 if args.check and failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
