@@ -9,6 +9,7 @@
 
 #include "haptic_client/device/scripted_device.h"
 #include "haptic_client/servo/force_render.h"
+#include "haptic_client/servo/servo_record.h"
 #include "haptic_client/servo/servo_stats.h"
 #include "haptic_client/servo/state_estimate.h"
 
@@ -229,6 +230,34 @@ TEST(ScriptedDevice, ARepeatedLinkWaypointHoldsWhereTheOneBeforeIt) {
   for (int k = 2001; k <= 3000; ++k) d.read(k * 1e-3);
   EXPECT_NEAR(d.read(3.0).position.x(), 0.14 + 0.15, 1e-9);
   EXPECT_NEAR(d.read(3.0).position.z(), 0.1, 1e-9);
+}
+
+// haptic_truth checks the slew limit's largest step (1 N) from the record's CSV, between forces near
+// 10 N: nine digits gave 1.00000003 N for a step of exactly 1 N. The record must round-trip.
+TEST(ServoRecord, ItsCsvGivesBackEveryForceBitForBit) {
+  ServoRecord record(2);
+  ServoRecordRow a, b;
+  a.rendered = Vector3(1e-15, -0.1, -10.1779044703917);
+  b.rendered = a.rendered + Vector3(0.0, 0.0, 1.0);
+  b.t = 0.001;
+  record.add(a);
+  record.add(b);
+  const std::string path = ::testing::TempDir() + "servo_record_test.csv";
+  std::string error;
+  ASSERT_TRUE(record.write(path, &error)) << error;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // the header
+  for (const ServoRecordRow& row : {a, b}) {
+    ASSERT_TRUE(std::getline(in, line));
+    double v[15];
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1],
+                          &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8], &v[9], &v[10], &v[11], &v[12], &v[13],
+                          &v[14]),
+              15);
+    EXPECT_EQ(Vector3(v[12], v[13], v[14]), row.rendered);
+  }
+  std::remove(path.c_str());
 }
 
 }  // namespace
