@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/geometry/shape_kind.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/model_io/resource_path.h"
 #include "core/scene/resolved_scene.h"
@@ -23,22 +24,15 @@ json pose(const SE3& X) {
 json shape(const CollisionShape& s, const std::string& model_file,
            const std::function<std::string(const std::string&)>& serve) {
   json j = pose(s.placement);
-  switch (s.kind) {
-    case CollisionShape::Kind::Box: j["kind"] = "box"; j["size"] = vec(s.size); break;
-    case CollisionShape::Kind::Cylinder: j["kind"] = "cylinder"; j["size"] = vec(s.size); break;
-    case CollisionShape::Kind::Sphere: j["kind"] = "sphere"; j["size"] = vec(s.size); break;
-    case CollisionShape::Kind::Capsule: j["kind"] = "capsule"; j["size"] = vec(s.size); break;
-    case CollisionShape::Kind::Plane: j["kind"] = "plane"; break;  // its z = 0, solid below
-    case CollisionShape::Kind::Mesh: {
-      j["kind"] = "mesh";
-      j["scale"] = vec(s.mesh_scale);
-      const ResourceResolution r = resolveResource(s.mesh_file, model_file);
-      if (r.path.empty()) {
-        j["missing"] = s.mesh_file;  // the page draws a marker and the HUD names it
-      } else {
-        j["url"] = serve(r.path);
-      }
-      break;
+  j["kind"] = shapeKindName(s.kind);  // a plane is its z = 0, solid below
+  if (shapeKind(s.kind).primitive) j["size"] = vec(s.size);  // as CollisionShape::size holds it
+  if (s.kind == CollisionShape::Kind::Mesh) {
+    j["scale"] = vec(s.mesh_scale);
+    const ResourceResolution r = resolveResource(s.mesh_file, model_file);
+    if (r.path.empty()) {
+      j["missing"] = s.mesh_file;  // the page draws a marker and the HUD names it
+    } else {
+      j["url"] = serve(r.path);
     }
   }
   return j;

@@ -29,7 +29,7 @@ const char* jointTypeName(JointType t);
 // what the obstacle monitor (FCL) tests. Cylinders and capsules lie along their frame's z axis; a
 // plane is its frame's z = 0 with the solid below (the ground).
 struct CollisionShape {
-  enum class Kind { Box, Cylinder, Sphere, Mesh, Capsule, Plane };
+  enum class Kind { Box, Cylinder, Sphere, Mesh, Capsule, Plane };  // names, sizes: core/geometry/shape_kind.h
   Kind kind = Kind::Box;
   // box: extents; cylinder and capsule: (radius, length of the axis between the caps' centres, 0);
   // sphere: (radius, 0, 0); plane: unused
@@ -45,9 +45,6 @@ struct CollisionShape {
   std::shared_ptr<const std::vector<Vector3>> samples;
   SE3 placement;                   // in the frame of the link that owns it
 };
-
-// "box", "cylinder", "sphere", "mesh", "capsule", "plane": the scene's word for a shape kind.
-const char* shapeKindName(CollisionShape::Kind kind);
 
 // Visual geometry: what a viewer draws, a shape and its colour.
 struct VisualShape {

@@ -315,18 +315,6 @@ std::string textHash(const std::string& text) {
   return out;
 }
 
-const char* shapeKindName(CollisionShape::Kind kind) {
-  switch (kind) {
-    case CollisionShape::Kind::Box: return "box";
-    case CollisionShape::Kind::Cylinder: return "cylinder";
-    case CollisionShape::Kind::Sphere: return "sphere";
-    case CollisionShape::Kind::Mesh: return "mesh";
-    case CollisionShape::Kind::Capsule: return "capsule";
-    case CollisionShape::Kind::Plane: return "plane";
-  }
-  return "?";
-}
-
 int Model::frameIndex(const std::string& n) const {
   for (size_t i = 0; i < frames.size(); ++i)
     if (frames[i].name == n) return static_cast<int>(i);

@@ -4,7 +4,7 @@
 
 #include "core/model/configuration.h"
 #include "core/model/environment_model.h"
-#include "core/model/shape_inertia.h"
+#include "core/geometry/shape_inertia.h"
 #include "core/model_io/mesh_fields.h"
 #include "core/model_io/mesh_reader.h"
 #include "core/model_io/model_loader.h"

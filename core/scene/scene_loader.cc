@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/geometry/shape_kind.h"
 #include "core/scene/scene.h"
 
 namespace igms {
@@ -91,6 +92,18 @@ std::string join(const std::string& dir, const std::string& path) {
   return dir + "/" + path;
 }
 
+// "box, cylinder, sphere or capsule" (and mesh): the kinds a scene may name, from the table.
+std::string shapeNames(bool allow_mesh) {
+  std::vector<std::string> names;
+  for (const ShapeKindInfo& k : shapeKinds())
+    if (k.primitive) names.push_back(k.name);
+  if (allow_mesh) names.push_back(shapeKindName(CollisionShape::Kind::Mesh));
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
 // A shape with its pose: obstacles and free bodies (in the world), robot.collision (in a link's frame).
 // Meshes (allow_mesh): file (from the scene's folder, base_dir, unless absolute or a package://)
 // and scale; their fields come with resolveScene.
@@ -98,18 +111,21 @@ CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string
                          const std::string& base_dir = "") {
   CollisionShape c;
   const std::string shape = r.text(o, "shape", "");
-  if (shape == "box") {
-    c.kind = CollisionShape::Kind::Box;
-    if (!o["size"]) r.fail(o, where + ".size", "missing");
-    c.size = r.numbers(o["size"], where + ".size", 3);
-    if ((c.size.array() <= 0.0).any()) r.fail(o["size"], where + ".size", "must be positive");
-  } else if (shape == "sphere") {
-    c.kind = CollisionShape::Kind::Sphere;
-    c.size = Vector3(r.positive(o, "radius", 0.0, where), 0, 0);
-  } else if (shape == "cylinder" || shape == "capsule") {
-    c.kind = shape == "cylinder" ? CollisionShape::Kind::Cylinder : CollisionShape::Kind::Capsule;
-    c.size = Vector3(r.positive(o, "radius", 0.0, where), r.positive(o, "length", 0.0, where), 0);
-  } else if (shape == "mesh" && allow_mesh) {
+  const ShapeKindInfo* kind = shapeKindNamed(shape);
+  if (kind && kind->primitive) {
+    c.kind = kind->kind;
+    for (const ShapeDimension& d : kind->dimensions) {
+      if (!d.key) continue;
+      if (d.count == 1) {
+        c.size[d.at] = r.positive(o, d.key, 0.0, where);
+        continue;
+      }
+      const std::string at = where + "." + d.key;
+      if (!o[d.key]) r.fail(o, at, "missing");
+      c.size.segment(d.at, d.count) = r.numbers(o[d.key], at, d.count);
+      if ((c.size.segment(d.at, d.count).array() <= 0.0).any()) r.fail(o[d.key], at, "must be positive");
+    }
+  } else if (kind && kind->kind == CollisionShape::Kind::Mesh && allow_mesh) {
     c.kind = CollisionShape::Kind::Mesh;
     const std::string file = r.text(o, "file", "");
     if (file.empty()) r.fail(o, where + ".file", "missing (a mesh file: STL, OBJ, Collada)");
@@ -119,8 +135,7 @@ CollisionShape primitive(const Reader& r, const YAML::Node& o, const std::string
     if (o["scale"]) c.mesh_scale = r.numbers(o["scale"], where + ".scale", 3);
     if ((c.mesh_scale.array() <= 0.0).any()) r.fail(o["scale"], where + ".scale", "must be positive");
   } else {
-    r.fail(o["shape"] ? o["shape"] : o, where + ".shape",
-           allow_mesh ? "must be box, sphere, cylinder, capsule or mesh" : "must be box, sphere, cylinder or capsule");
+    r.fail(o["shape"] ? o["shape"] : o, where + ".shape", "must be " + shapeNames(allow_mesh));
   }
   c.placement = pose(r, o);
   return c;

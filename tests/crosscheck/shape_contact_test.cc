@@ -21,6 +21,7 @@
 #include "core/geometry/convex_distance.h"
 #include "core/geometry/point_query.h"
 #include "core/geometry/shape_contact.h"
+#include "core/geometry/shape_kind.h"
 #include "tests/support/malloc_counter.h"
 
 namespace igms {

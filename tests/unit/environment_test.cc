@@ -6,6 +6,9 @@
 #include "core/contact/contact_model.h"
 #include "core/dynamics/crba.h"
 #include "core/dynamics/ltdl.h"
+#include "core/geometry/shape_bounds.h"
+#include "core/geometry/shape_inertia.h"
+#include "core/geometry/shape_kind.h"
 #include "core/model/environment_model.h"
 #include "core/model/frame_names.h"
 #include "core/simulation/coupled_dynamics.h"
@@ -94,7 +97,7 @@ TEST(Environment, OneRobotAloneKeepsItsModelAsItWas) {
 TEST(Environment, ErrorsNameTheFileAndTheKey) {
   const std::pair<const char*, const char*> cases[] = {  // a scene, what its error says
       {"bodies: [{name: b, shape: cone, radius: 1}]\n",
-       "bad.yaml:1: bodies[0].shape: must be box, sphere, cylinder, capsule or mesh"},
+       "bad.yaml:1: bodies[0].shape: must be box, cylinder, sphere, capsule or mesh"},
       {"bodies: [{name: b, shape: sphere, radius: 0.1, material: steel}]\n",
        "bodies[0].material: unknown material 'steel' (the scene's: default)"},
       {"bodies: [{name: b, shape: sphere, radius: 0.1, mass: 1, density: 3}]\n",
@@ -114,6 +117,46 @@ TEST(Environment, ErrorsNameTheFileAndTheKey) {
       {"bodies: [{name: m, shape: mesh, file: nowhere.stl}]\n", "bodies[0].file"},
   };
   for (const auto& [yaml, expected] : cases) EXPECT_NE(error(yaml).find(expected), std::string::npos) << yaml;
+}
+
+// A shape kind is a row of core/geometry/shape_kind's table: the scene reads each primitive by the
+// table's keys alone, and the geometry layer bounds it and gives its mass.
+TEST(Environment, EveryPrimitiveKindIsReadByItsRowOfTheTable) {
+  int k = 0;
+  for (const ShapeKindInfo& kind : shapeKinds()) {
+    EXPECT_EQ(static_cast<int>(kind.kind), k++) << kind.name << ": the table is in the enum's order";
+    EXPECT_EQ(shapeKindNamed(kind.name), &kind);
+    if (!kind.primitive) continue;
+    // The body in YAML with each of the kind's numbers but `skip`'s, distinct values from 0.07 m on.
+    Vector3 size = Vector3::Zero();
+    const auto yaml = [&](const char* skip) {
+      std::string y = std::string("bodies: [{name: b, shape: ") + kind.name;
+      double x = 0.07;
+      for (const ShapeDimension& d : kind.dimensions) {
+        if (!d.key || d.key == skip) continue;
+        y += std::string(", ") + d.key + ": " + (d.count > 1 ? "[" : "");
+        for (int i = 0; i < d.count; ++i, x += 0.03) {
+          y += (i ? ", " : "") + std::to_string(x);
+          size[d.at + i] = x;
+        }
+        y += d.count > 1 ? "]" : "";
+      }
+      return y + ", mass: 1}]\n";
+    };
+    const std::string whole = yaml(nullptr);
+    const ResolvedScene r = resolveScene(parseScene(whole, "kinds.yaml", test::sourceDir() + "/scenes"));
+    ASSERT_EQ(r.model->frames.size(), 1u) << whole;
+    const CollisionShape& shape = r.model->frames[0].collisions.at(0);
+    EXPECT_EQ(shape.kind, kind.kind) << whole;
+    EXPECT_TRUE(shape.size.isApprox(size, 1e-12)) << whole << shape.size.transpose();
+    EXPECT_GT(boundingRadius(shape), 0.0) << kind.name;
+    EXPECT_GT(shapeMassProperties(shape).volume, 0.0) << kind.name;
+    // Each of the kind's numbers is required: a shape without one is refused, naming it.
+    for (const ShapeDimension& d : kind.dimensions)
+      if (d.key)
+        EXPECT_NE(error(yaml(d.key)).find(std::string("bodies[0].") + d.key), std::string::npos)
+            << kind.name << " without " << d.key << ": " << error(yaml(d.key));
+  }
 }
 
 TEST(Environment, FreeBodiesTakeTheirInertiaFromTheirShape) {

@@ -13,6 +13,7 @@
 #include "core/dynamics/external_force.h"
 #include "core/dynamics/forward_dynamics.h"
 #include "core/dynamics/rnea.h"
+#include "core/geometry/shape_kind.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/kinematics/jacobian.h"
 #include "core/model/configuration.h"

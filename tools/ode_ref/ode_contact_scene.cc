@@ -5,7 +5,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "core/model/shape_inertia.h"
+#include "core/geometry/shape_inertia.h"
 
 namespace igms {
 

@@ -1,7 +1,9 @@
-#include "core/model/shape_inertia.h"
+#include "core/geometry/shape_inertia.h"
 
 #include <cmath>
 #include <stdexcept>
+
+#include "core/geometry/shape_kind.h"
 
 namespace igms {
 
