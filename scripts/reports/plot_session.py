@@ -58,6 +58,16 @@ def mark_events(ax, events):
                     va="bottom", ha="left")
 
 
+def label_time_plot(ax, events, ylabel, title, what, ncol):
+    """A plot against time: the touches shaded, its axes, title and legend."""
+    mark_events(ax, events)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"{title}: {what}" if title else what)
+    ax.legend(fontsize=8, ncol=ncol)
+    ax.grid(alpha=0.3)
+
+
 def box_edges(center, size, rpy):
     cx, cy, cz = center
     hx, hy, hz = np.array(size) / 2.0
@@ -137,12 +147,7 @@ def main():
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for j in joints:
         ax.plot(t, s[j], label=f"joint{int(j[1:]) + 1}")
-    mark_events(ax, events)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("joint angle (rad)")
-    ax.set_title(f"{title}: joint trajectories" if title else "joint trajectories")
-    ax.legend(fontsize=8, ncol=3)
-    ax.grid(alpha=0.3)
+    label_time_plot(ax, events, "joint angle (rad)", title, "joint trajectories", ncol=3)
     save(fig, out, "joints")
 
     fig, ax = plt.subplots(figsize=(8, 3.5))
@@ -150,12 +155,7 @@ def main():
     ax.plot(t, f, color="k", label="|F|")
     for c, col in (("fx", "tab:red"), ("fy", "tab:green"), ("fz", "tab:blue")):
         ax.plot(t, s[c], color=col, lw=0.8, label=c)
-    mark_events(ax, events)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("force on the robot (N)")
-    ax.set_title(f"{title}: interaction forces" if title else "interaction forces")
-    ax.legend(fontsize=8, ncol=4)
-    ax.grid(alpha=0.3)
+    label_time_plot(ax, events, "force on the robot (N)", title, "interaction forces", ncol=4)
     save(fig, out, "forces")
 
     links = [h[:-2] for h in header if h.endswith(".x")]
