@@ -106,9 +106,9 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     out.coupled = true;
     out.frame = c.contact_frame;
     out.point_local = point_local;
-    out.point = p.point;
-    out.on_robot = p.on_link;
-    out.clamped = p.clamped;
+    out.applied.point = p.point;
+    out.applied.force = p.on_link;
+    out.applied.clamped = p.clamped;
     if (!p.clamped) {
       out.K = c.gains.push_k_p * touch.normal * touch.normal.transpose();
       out.B = c.gains.push_b * touch.normal * touch.normal.transpose();
@@ -122,9 +122,9 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     out.coupled = true;
     out.frame = c.pull_frame;
     out.point_local = c.pull_point;
-    out.point = x;
-    out.on_robot = p.on_robot;
-    out.clamped = p.clamped;
+    out.applied.point = x;
+    out.applied.force = p.on_robot;
+    out.applied.clamped = p.clamped;
     if (!p.stretch_capped && !p.clamped) out.K = c.gains.pull_k * Matrix3::Identity();
     if (!p.clamped) out.B = c.gains.pull_b * Matrix3::Identity();
     if (c.hand.has_orientation && c.gains.pull_k_rot > 0.0) {
@@ -132,15 +132,15 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
       const Vector3 w = J_.bottomRows<3>() * v;
       const PullTorque t = pullTorque(c.gains.pull_k_rot, c.gains.pull_b_rot, scene_.pull.max_angle, scene_.pull.max_torque,
                                       c.tip_rotation, c.hand.tip_angular_velocity, R, w);
-      out.torque = t.on_robot;
-      out.clamped = out.clamped || t.clamped;
+      out.applied.torque = t.on_robot;
+      out.applied.clamped = out.applied.clamped || t.clamped;
       if (!t.angle_capped && !t.clamped) out.k_rot = c.gains.pull_k_rot;
       if (!t.clamped) out.b_rot = c.gains.pull_b_rot;
     }
   }
   if (out.coupled && c.scale != 1.0) {
-    out.on_robot *= c.scale;
-    out.torque *= c.scale;
+    out.applied.force *= c.scale;
+    out.applied.torque *= c.scale;
     out.K *= c.scale;
     out.B *= c.scale;
     out.k_rot *= c.scale;
@@ -178,7 +178,7 @@ void CoupledDynamics::evaluate(const CoupledInputs& in, const VectorX& q, const 
     CouplingForce& u = out.couplings[static_cast<size_t>(h)];
     couplingForce(in.couplings[h], v, u);
     if (!u.coupled) continue;
-    addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.on_robot, u.torque}, fext_);
+    addPointForce(model_, data_, PointForce{u.frame, u.point_local, u.applied.force, u.applied.torque}, fext_);
     any = true;
   }
   const std::vector<Force>* fext = any ? &fext_ : nullptr;
@@ -324,8 +324,8 @@ void CoupledDynamics::appliedCouplings(const CoupledEvaluation& at, const Vector
       turned += (h * v_end[c]) * J.col(c).tail<3>();
       dspin += (v_end[c] - v[c]) * J.col(c).tail<3>();
     }
-    a.on_robot = u.on_robot - u.K * moved - u.B * dvel;
-    a.torque = u.torque - u.k_rot * turned - u.b_rot * dspin;
+    a.applied.force = u.applied.force - u.K * moved - u.B * dvel;
+    a.applied.torque = u.applied.torque - u.k_rot * turned - u.b_rot * dspin;
   }
 }
 

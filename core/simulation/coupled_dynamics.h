@@ -105,10 +105,7 @@ struct CouplingForce {
   bool coupled = false;
   int frame = -1;
   Vector3 point_local = Vector3::Zero();  // where it acts, link frame
-  Vector3 point = Vector3::Zero();        // where it acts, world
-  Vector3 on_robot = Vector3::Zero();     // N, world
-  Vector3 torque = Vector3::Zero();       // N m, world: the 6-D pull's moment on the link
-  bool clamped = false;                   // |F| or |torque| limited to the scene's maximum
+  HandForce applied;                      // on the link, and where in the world
   Matrix3 K = Matrix3::Zero(), B = Matrix3::Zero();  // -dF/dx, -dF/dxdot at the point (zero when capped)
   // -dT/dtheta, -dT/domega: k_rot I and b_rot I (the small-angle linearisation
   // of the log map: symmetric, so the implicit step's matrix stays SPD), zero when capped.

@@ -1,8 +1,9 @@
 // One word for a hand, as the step sees it: the validated input each hand
 // sends (InteractionInput, scene coordinates, link names already resolved to
-// frames at the bus edge), the inputs one step consumes (HandInputs), and what
-// the step did with each (HandOutcome, StepOutcome). The server's hand slots
-// and the client include this, not the whole simulation.
+// frames at the bus edge), the inputs one step consumes (HandInputs), the
+// force a hand applies (HandForce: the dynamics evaluate it, the step reports
+// it) and what the step did with each (HandOutcome, StepOutcome). The server's
+// hand slots and the client include this, not the whole simulation.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -53,15 +54,21 @@ struct HandInputs {
   }
 };
 
+// The force one hand applies to what it acts on. The dynamics evaluate it (CouplingForce adds its
+// linearisation), and the step reports the one it applied (HandOutcome): one type for both.
+struct HandForce {
+  Vector3 force = Vector3::Zero();   // on the robot or body, world, N (the hand feels its reaction)
+  Vector3 torque = Vector3::Zero();  // on it, world, N m: the 6-D pull's moment
+  Vector3 point = Vector3::Zero();   // where the force acts, world
+  bool clamped = false;              // |F| or |torque| limited to the scene's maximum
+};
+
 // One hand's part of a step: the input it consumed and the force it applied.
 struct HandOutcome {
   int32_t client = -1;
   int64_t input_seq = -1;
   InteractionMode mode = InteractionMode::None;  // None: the input did not interact (or its mode is off)
-  Vector3 force = Vector3::Zero();   // on the robot, world, N (this client feels its reaction)
-  Vector3 torque = Vector3::Zero();  // on the robot, world, N m (6-D pull)
-  Vector3 point = Vector3::Zero();   // where the force acts, world
-  bool clamped = false;
+  HandForce applied;                             // zero while it touches nothing
 };
 
 // What the last step did, for the state message: the users' forces the step

@@ -331,15 +331,12 @@ bool Simulation::step(const HandInputs& hands) {
     HandOutcome& ho = outcome_.hands[static_cast<size_t>(k)];
     if (ho.mode == InteractionMode::None) continue;
     const CouplingForce& u = (*couplings)[static_cast<size_t>(c++)];
-    if (c == 1) outcome_.force_point = u.point;  // the first interacting hand's (zero when it touches nothing)
+    if (c == 1) outcome_.force_point = u.applied.point;  // the first interacting hand's (zero when it touches nothing)
     if (!u.coupled) continue;
-    ho.force = u.on_robot;
-    ho.torque = u.torque;
-    ho.point = u.point;
-    ho.clamped = u.clamped;
-    outcome_.force_on_robot += u.on_robot;
-    outcome_.torque_on_robot += u.torque;
-    outcome_.clamped = outcome_.clamped || u.clamped;
+    ho.applied = u.applied;
+    outcome_.force_on_robot += u.applied.force;
+    outcome_.torque_on_robot += u.applied.torque;
+    outcome_.clamped = outcome_.clamped || u.applied.clamped;
   }
   if (outcome_.clamped) ++forces_clamped_;
   t_ += scene_.dt;

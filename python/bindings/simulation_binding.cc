@@ -220,10 +220,10 @@ class PySimulation {
       nb::dict d;
       d["client"] = h.client;
       d["mode"] = h.mode == InteractionMode::Push ? "push" : h.mode == InteractionMode::Pull ? "pull" : "none";
-      d["force"] = newVector(h.force.data(), 3);
-      d["torque"] = newVector(h.torque.data(), 3);
-      d["point"] = newVector(h.point.data(), 3);
-      d["clamped"] = h.clamped;
+      d["force"] = newVector(h.applied.force.data(), 3);
+      d["torque"] = newVector(h.applied.torque.data(), 3);
+      d["point"] = newVector(h.applied.point.data(), 3);
+      d["clamped"] = h.applied.clamped;
       out.append(d);
     }
     return out;
@@ -268,7 +268,7 @@ class PySimulation {
       }
       Interaction& i = tally_.interactions[static_cast<size_t>(open)];
       i.end = sim_.time();
-      i.max_force = std::max(i.max_force, h.force.norm());
+      i.max_force = std::max(i.max_force, h.applied.force.norm());
     }
     for (int c = 0; c < kMaxHands; ++c)
       if (!seen[static_cast<size_t>(c)]) tally_.open[static_cast<size_t>(c)] = -1;

@@ -74,9 +74,9 @@ void StatePublisher::fill(const Snapshot& s) {
     msg_.hand_input_seq[h] = o.input_seq;
     msg_.hand_mode[h] = static_cast<int8_t>(o.mode);
     for (size_t k = 0; k < 3; ++k) {
-      msg_.hand_force[h][k] = o.force[static_cast<int>(k)];
-      msg_.hand_torque[h][k] = o.torque[static_cast<int>(k)];
-      msg_.hand_point[h][k] = o.point[static_cast<int>(k)];
+      msg_.hand_force[h][k] = o.applied.force[static_cast<int>(k)];
+      msg_.hand_torque[h][k] = o.applied.torque[static_cast<int>(k)];
+      msg_.hand_point[h][k] = o.applied.point[static_cast<int>(k)];
     }
   }
   for (size_t f = 0; f < s.link_poses.size(); ++f) {

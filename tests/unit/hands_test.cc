@@ -67,9 +67,9 @@ TEST(Hands, TwoHandsMoveTheRobotAsTheSumOfBothCouplings) {
   EXPECT_EQ(o.hands[1].client, 2);
   EXPECT_EQ(o.hands[0].mode, InteractionMode::Pull);
   EXPECT_EQ(o.hands[1].mode, InteractionMode::Push);
-  ASSERT_GT(o.hands[0].force.norm(), 1.0);
-  ASSERT_GT(o.hands[1].force.norm(), 1.0) << "the push must touch link 2";
-  EXPECT_LE((o.force_on_robot - o.hands[0].force - o.hands[1].force).norm(), 1e-12);
+  ASSERT_GT(o.hands[0].applied.force.norm(), 1.0);
+  ASSERT_GT(o.hands[1].applied.force.norm(), 1.0) << "the push must touch link 2";
+  EXPECT_LE((o.force_on_robot - o.hands[0].applied.force - o.hands[1].applied.force).norm(), 1e-12);
   // The step's acceleration is forward dynamics under J1^T F1 + J2^T F2 at the start state.
   const Model& m = sim.model();
   Data d(m);
@@ -80,8 +80,8 @@ TEST(Hands, TwoHandsMoveTheRobotAsTheSumOfBothCouplings) {
     const int f = ho.mode == InteractionMode::Pull ? m.frameIndex("ee_link") : m.frameIndex("link2");
     Matrix6X J(6, m.nv);
     const SE3 X = framePose(m, d, f);
-    pointJacobian(m, d, f, X.inverse().act(ho.point), J);
-    tau += J.topRows<3>().transpose() * ho.force;
+    pointJacobian(m, d, f, X.inverse().act(ho.applied.point), J);
+    tau += J.topRows<3>().transpose() * ho.applied.force;
   }
   crba(m, d, q);
   tau -= sim.scene().robots[0].hold_damping * d.H.symmetricUpperTimes(v);
@@ -120,7 +120,7 @@ TEST(Hands, AHandThatComesBackAfterAGapRampsInWithoutTouchingTheOther) {
     both.in[1] = h.pull;
     ASSERT_TRUE(sim.step(both));
   }
-  const double full = sim.outcome().hands[1].force.norm();  // the push's (client 2)
+  const double full = sim.outcome().hands[1].applied.force.norm();  // the push's (client 2)
   for (int k = 0; k < 50; ++k) {  // the pusher is away 50 steps: a gap for it only
     ++h.pull.seq;
     pull_only.in[0] = h.pull;
@@ -136,9 +136,9 @@ TEST(Hands, AHandThatComesBackAfterAGapRampsInWithoutTouchingTheOther) {
   const HandOutcome& pull = sim.outcome().hands[0];
   const HandOutcome& push = sim.outcome().hands[1];
   ASSERT_GT(full, 1.0);
-  EXPECT_GT(push.force.norm(), 0.0);
-  EXPECT_LT(push.force.norm(), 0.05 * full) << "the returning push starts at 1/100 of its force";
-  EXPECT_GT(pull.force.norm(), 0.5) << "the pull, never away, keeps acting in full";
+  EXPECT_GT(push.applied.force.norm(), 0.0);
+  EXPECT_LT(push.applied.force.norm(), 0.05 * full) << "the returning push starts at 1/100 of its force";
+  EXPECT_GT(pull.applied.force.norm(), 0.5) << "the pull, never away, keeps acting in full";
 }
 
 // A hand holds the robot it pushes or pulls, and holds it while its push goes on, even where the tip

@@ -114,7 +114,7 @@ ResimResult resimulate(const std::vector<log::Event>& events, const std::string&
     for (int h = 0; h < nhands && h < sim->outcome().nhands; ++h)
       for (int k = 0; k < 3; ++k)
         track(dforce, st.hand_force[static_cast<size_t>(h)][static_cast<size_t>(k)],
-              sim->outcome().hands[static_cast<size_t>(h)].force[k], st.seq, identical);
+              sim->outcome().hands[static_cast<size_t>(h)].applied.force[k], st.seq, identical);
     const auto& poses = sim->linkPoses();
     for (int l = 0; l < st.nlinks && l < static_cast<int>(poses.size()); ++l)
       for (int k = 0; k < 3; ++k) track(dpose, st.link_poses[l][k], poses[static_cast<size_t>(l)].p[k], st.seq, identical);
