@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/geometry/shape_kind.h"
+#include "core/geometry/shape_surface.h"
 #include "core/kinematics/forward_kinematics.h"
 #include "core/model_io/resource_path.h"
 #include "core/scene/resolved_scene.h"
@@ -21,11 +22,31 @@ json pose(const SE3& X) {
   return {{"p", vec(X.p)}, {"q", json::array({q.w(), q.x(), q.y(), q.z()})}};
 }
 
+// The kinds the page draws from their name and size (web/page/robot_view.js), and a mesh from its
+// file; any other kind goes as its surface's triangles, so that a new kind needs no line here.
+bool pageDrawsItself(CollisionShape::Kind kind) {
+  using Kind = CollisionShape::Kind;
+  return kind == Kind::Box || kind == Kind::Sphere || kind == Kind::Cylinder || kind == Kind::Plane ||
+         kind == Kind::Mesh;
+}
+
+// Vertices at float precision (a micrometre at the scale of a room), flat, and the triangles' indices.
+json surface(const CollisionShape& s) {
+  const TriangleMesh m = shapeSurface(s);
+  json vertices = json::array(), triangles = json::array();
+  for (const Vector3& v : m.vertices)
+    for (int i = 0; i < 3; ++i) vertices.push_back(static_cast<float>(v[i]));
+  for (const auto& t : m.triangles)
+    for (int i : t) triangles.push_back(i);
+  return {{"vertices", vertices}, {"triangles", triangles}};
+}
+
 json shape(const CollisionShape& s, const std::string& model_file,
            const std::function<std::string(const std::string&)>& serve) {
   json j = pose(s.placement);
   j["kind"] = shapeKindName(s.kind);  // a plane is its z = 0, solid below
   if (shapeKind(s.kind).primitive) j["size"] = vec(s.size);  // as CollisionShape::size holds it
+  if (!pageDrawsItself(s.kind)) j["surface"] = surface(s);
   if (s.kind == CollisionShape::Kind::Mesh) {
     j["scale"] = vec(s.mesh_scale);
     const ResourceResolution r = resolveResource(s.mesh_file, model_file);

@@ -6,32 +6,10 @@
 #include <cmath>
 
 #include "core/geometry/tip_contact.h"
+#include "server/collision/fcl_shape.h"
 
 namespace igms {
 namespace {
-
-std::shared_ptr<fcl::CollisionGeometryd> fclShape(const CollisionShape& s) {
-  switch (s.kind) {
-    case CollisionShape::Kind::Box: return std::make_shared<fcl::Boxd>(s.size[0], s.size[1], s.size[2]);
-    case CollisionShape::Kind::Cylinder: return std::make_shared<fcl::Cylinderd>(s.size[0], s.size[1]);
-    case CollisionShape::Kind::Sphere: return std::make_shared<fcl::Sphered>(s.size[0]);
-    case CollisionShape::Kind::Capsule: return std::make_shared<fcl::Capsuled>(s.size[0], s.size[1]);
-    case CollisionShape::Kind::Plane: return nullptr;  // the ground: the contact layer's, never a ghost
-    case CollisionShape::Kind::Mesh: {
-      if (!s.triangles) return nullptr;  // a description read as text: no triangles
-      auto bvh = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-      std::vector<fcl::Vector3d> vertices(s.triangles->vertices.begin(), s.triangles->vertices.end());
-      std::vector<fcl::Triangle> triangles;
-      triangles.reserve(s.triangles->triangles.size());
-      for (const auto& t : s.triangles->triangles) triangles.emplace_back(t[0], t[1], t[2]);
-      bvh->beginModel();
-      bvh->addSubModel(vertices, triangles);
-      bvh->endModel();
-      return bvh;
-    }
-  }
-  return nullptr;
-}
 
 fcl::Transform3d toFcl(const SE3& X) {
   fcl::Transform3d T = fcl::Transform3d::Identity();

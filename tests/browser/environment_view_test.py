@@ -15,6 +15,9 @@ the page.
      the frame rate is printed and only a floor of 5 fps asserted) and replayed
      from its log (igms-viewer --log, the page alone; both frame rates printed,
      floors asserted: the 30 fps asked for is not reached by this software renderer).
+  4. scenes/log_pile.yaml: the page has no capsule of its own; each log is drawn from the
+     triangles of its surface the hello carries (core/geometry/shape_surface.h), as a kind
+     added later would be: as many triangles, the capsule's extents, under some pixel.
 
   environment_view_test.py BUILD_DIR SOURCE_DIR
 """
@@ -273,8 +276,39 @@ def pile_frame_rate(checks, driver):
     procs.stop(viewer)
 
 
+def logs_drawn_from_their_surface(checks, driver):
+    server, client, device_url = start_session(scene("log_pile.yaml"))
+    page = open_page(driver, device_url)
+    links = page.state("hello")["links"]
+    for name in ("left", "right", "top"):
+        i = next(k for k, link in enumerate(links) if link["name"] == name)
+        shape = links[i]["shapes"][0]
+        sent = len(shape.get("surface", {}).get("triangles", [])) // 3
+        drawn = page.js("""
+            const T = window.igms.THREE, box = new T.Box3();
+            let triangles = 0;
+            window.igms.robot.links[arguments[0]].group.traverse((o) => {
+              if (!o.isMesh) return;
+              triangles += o.geometry.index.count / 3;
+              o.geometry.computeBoundingBox();
+              box.union(o.geometry.boundingBox);
+            });
+            return [triangles, box.min.toArray(), box.max.toArray()];""", i)
+        r, half = shape["size"][0], 0.5 * shape["size"][1]
+        extents = [r, r, half + r]
+        off = max(abs(hi - e) + abs(lo + e) for lo, hi, e in zip(drawn[1], drawn[2], extents))
+        checks.check(shape["kind"] == "capsule" and sent > 0 and drawn[0] == sent and off < 1e-6,
+                     "the log '%s' is drawn from its surface's triangles" % name,
+                     "%d sent, %d drawn, extents off by %.1e m" % (sent, drawn[0], off))
+        at = page.js("return window.igms.pointOnLink(arguments[0])", i)
+        checks.check(at is not None, "the log '%s' is under some pixel" % name, str(at))
+    for p in (client, server):
+        procs.stop(p)
+
+
 def body(checks, open_browser):
     driver = open_browser()
+    logs_drawn_from_their_surface(checks, driver)
     table_and_push(checks, driver)
     lift_and_drop(checks, driver)
     pile_frame_rate(checks, driver)

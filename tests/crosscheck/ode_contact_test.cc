@@ -5,7 +5,9 @@
 // hard Coulomb contact, so at the same step they should agree closely:
 //   the sliding box's x(t) within 1e-9 m step for step (6e-11 m here), a diagonal launch as far;
 //   the box on the 20 deg slope: igms sticks (1e-12 m/s);
-//   the ball's rebound (e = 0.5) within 3 %, the sphere rolling down 15 deg within 1e-6.
+//   the ball's rebound (e = 0.5) within 3 %, the sphere rolling down 15 deg within 1e-6;
+//   balls on meshes (ODE's trimesh of the mesh's triangles): resting on a cube and in a bowl's
+//   cavity at the triangles' surface in both, within ODE's rest overlap.
 // What ODE does differently is reported, not asserted (its creep, its impact time): these tests are
 // igms's, with ODE as the reference.
 #include <gtest/gtest.h>
@@ -121,6 +123,34 @@ TEST(OdeContact, TheBallReboundsAndTheSphereRollsAsInOde) {
     EXPECT_NEAR(a_igms, expected, 5.5e-4 * expected);
     EXPECT_NEAR(a_ode, a_igms, 1e-6 * a_igms) << "1e-11 apart here";
   }
+}
+
+TEST(OdeContact, BallsRestOnAMeshCubeAndInAMeshBowlAsInOde) {
+  // ball_on_mesh: a 6 cm ball 2 mm over a mesh cube whose top is at z = 0.4, a 3 cm pebble dropped
+  // 0.35 m into a bowl whose cavity holds it at z = 0.08. ODE takes each mesh as a trimesh of its
+  // triangles (core/geometry/shape_surface.h), which igms's contact reads as its exact surface too.
+  const Scene scene = shipped("ball_on_mesh.yaml");
+  Simulation sim(scene);
+  OdeContactScene ode(resolveScene(scene));
+  ASSERT_EQ(ode.bodies(), 2);
+  // The pebble rolls on in the bowl (nothing damps rolling): each engine's lowest point in the last second.
+  double low_igms[2] = {1.0, 1.0}, low_ode[2] = {1.0, 1.0};
+  stepBoth(sim, ode, 4000, [&](int step) {
+    for (int k = 0; step >= 3000 && k < 2; ++k) {
+      low_igms[k] = std::min(low_igms[k], igmsPosition(sim, k).z());
+      low_ode[k] = std::min(low_ode[k], ode.pose(k).p.z());
+    }
+  });
+  const double rest[2] = {0.46, 0.08};
+  for (int k = 0; k < 2; ++k) {
+    std::printf("%s on its mesh, lowest in the 4th second: igms z = %.6f m, ODE z = %.6f m (the surface's %.2f); "
+                "speeds at 4 s %.1e, %.1e m/s\n",
+                ode.name(k).c_str(), low_igms[k], low_ode[k], rest[k], igmsVelocity(sim, k).norm(), ode.velocity(k).norm());
+    EXPECT_NEAR(low_igms[k], rest[k], 1e-4) << ode.name(k);
+    EXPECT_NEAR(low_ode[k], rest[k], 1e-3) << ode.name(k) << ": ODE rests at the trimesh's surface, less its overlap";
+  }
+  EXPECT_LT(igmsVelocity(sim, 0).norm(), 1e-9) << "the ball on the cube is at rest";
+  EXPECT_LT(ode.velocity(0).norm(), 1e-9);
 }
 
 }  // namespace

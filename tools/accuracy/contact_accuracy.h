@@ -20,7 +20,6 @@ struct ContactCase {
   std::string unit;     // the error's unit
   double seconds = 1.0;
   double goal_at_1ms;   // igms's bound at h = 1 ms (the goal for it)
-  bool ode = true;      // ODE runs it too (its scene has no mesh: ODE's scene here has no trimesh)
 };
 
 // source_dir: where models/meshes is (the mesh case's file).

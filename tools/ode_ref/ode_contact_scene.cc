@@ -2,10 +2,12 @@
 
 #include <ode/ode.h>
 
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 
 #include "core/geometry/shape_inertia.h"
+#include "core/geometry/shape_surface.h"
 
 namespace igms {
 
@@ -21,14 +23,38 @@ void setRotation(dGeomID g, const Matrix3& R) {
   dGeomSetRotation(g, m);
 }
 
-dGeomID makeGeom(dSpaceID space, const CollisionShape& s, const std::string& what) {
+// A shape ODE has no primitive for, as its triangles (core/geometry/shape_surface.h): ODE reads the
+// arrays for as long as the geom lives.
+struct OdeTriangles {
+  std::vector<dReal> vertices;
+  std::vector<dTriIndex> indices;
+  dTriMeshDataID data = nullptr;
+  ~OdeTriangles() {
+    if (data) dGeomTriMeshDataDestroy(data);
+  }
+};
+
+dGeomID makeGeom(dSpaceID space, const CollisionShape& s, const std::string& what,
+                 std::vector<std::unique_ptr<OdeTriangles>>& keep) {
   switch (s.kind) {
     case CollisionShape::Kind::Box: return dCreateBox(space, s.size[0], s.size[1], s.size[2]);
     case CollisionShape::Kind::Sphere: return dCreateSphere(space, s.size[0]);
     case CollisionShape::Kind::Cylinder: return dCreateCylinder(space, s.size[0], s.size[1]);
     case CollisionShape::Kind::Capsule: return dCreateCapsule(space, s.size[0], s.size[1]);
-    default: throw std::invalid_argument(what + ": ODE's reference takes boxes, spheres, cylinders and capsules");
+    default: break;  // a mesh, and any kind ODE has no primitive for: its surface's triangles
   }
+  const TriangleMesh surface = shapeSurface(s);
+  if (surface.triangles.empty()) throw std::invalid_argument(what + ": no triangles for ODE's trimesh");
+  auto t = std::make_unique<OdeTriangles>();
+  for (const Vector3& v : surface.vertices) t->vertices.insert(t->vertices.end(), {v.x(), v.y(), v.z()});
+  for (const auto& tri : surface.triangles)
+    for (int i : tri) t->indices.push_back(static_cast<dTriIndex>(i));
+  t->data = dGeomTriMeshDataCreate();
+  dGeomTriMeshDataBuildDouble(t->data, t->vertices.data(), 3 * sizeof(dReal), static_cast<int>(surface.vertices.size()),
+                              t->indices.data(), static_cast<int>(t->indices.size()), 3 * sizeof(dTriIndex));
+  dGeomID g = dCreateTriMesh(space, t->data, nullptr, nullptr, nullptr);
+  keep.push_back(std::move(t));
+  return g;
 }
 }  // namespace
 
@@ -42,6 +68,7 @@ struct OdeContactScene::Impl {
   std::vector<Material> body_material;  // per ODE body
   std::vector<Material> static_material;
   std::vector<dGeomID> statics;
+  std::vector<std::unique_ptr<OdeTriangles>> triangles;  // the trimeshes' arrays, freed after the space
   double bounce_velocity = 0.0;
   int last_contacts = 0;
 
@@ -127,7 +154,7 @@ OdeContactScene::OdeContactScene(const ResolvedScene& r, const OdeContactSetting
     dBodySetQuaternion(body, dq);
     dBodySetLinearVel(body, b.velocity.x(), b.velocity.y(), b.velocity.z());
     dBodySetAngularVel(body, b.angular_velocity.x(), b.angular_velocity.y(), b.angular_velocity.z());
-    dGeomID g = makeGeom(m.space, b.shape, s.source + ": " + b.name);
+    dGeomID g = makeGeom(m.space, b.shape, s.source + ": " + b.name, m.triangles);
     dGeomSetBody(g, body);
     m.bodies.push_back(body);
     m.names.push_back(b.name);
@@ -140,7 +167,7 @@ OdeContactScene::OdeContactScene(const ResolvedScene& r, const OdeContactSetting
   }
   for (const Obstacle& o : s.obstacles) {
     if (!o.solid) continue;
-    dGeomID g = makeGeom(m.space, o.shape, s.source + ": obstacle " + o.name);
+    dGeomID g = makeGeom(m.space, o.shape, s.source + ": obstacle " + o.name, m.triangles);
     dGeomSetPosition(g, o.shape.placement.p.x(), o.shape.placement.p.y(), o.shape.placement.p.z());
     setRotation(g, o.shape.placement.R);
     m.statics.push_back(g);

@@ -1,5 +1,6 @@
 // A scene of free bodies in ODE 0.16, the independent reference for contact:
-// the scene's free bodies (box, sphere, cylinder, capsule) as ODE bodies at
+// the scene's free bodies (box, sphere, cylinder, capsule as ODE's own; a mesh,
+// or any kind ODE lacks, as a trimesh of its surface) as ODE bodies at
 // their centres of mass with the same mass and inertia, its ground plane and
 // solid obstacles as static geoms, ODE's own collision (dCollide) and its hard
 // contact (an LCP per step with dWorldStep, Dantzig's method; or QuickStep's
@@ -29,7 +30,8 @@ struct OdeContactSettings {
 
 class OdeContactScene {
  public:
-  // Throws std::invalid_argument for a scene ODE cannot take here (robots, meshes).
+  // Throws std::invalid_argument for a scene ODE cannot take here (robots, a mesh read without its
+  // triangles, a body whose centre of mass is off its shape's origin).
   explicit OdeContactScene(const ResolvedScene& scene, const OdeContactSettings& settings = {});
   ~OdeContactScene();
   OdeContactScene(const OdeContactScene&) = delete;

@@ -24,28 +24,24 @@ function place(object, shape) {
   object.quaternion.set(shape.q[1], shape.q[2], shape.q[3], shape.q[0]);
 }
 
+// A kind the page has no form of (a capsule; any kind added later), as the
+// server's triangles of its surface (core/geometry/shape_surface.h).
+function surfaceGeometry(surface) {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(surface.vertices, 3));
+  g.setIndex(surface.triangles);
+  g.computeVertexNormals();
+  return g;
+}
+
 function primitive(shape) {
+  if (shape.surface) return surfaceGeometry(shape.surface);
   switch (shape.kind) {
     case 'box': return new THREE.BoxBufferGeometry(shape.size[0], shape.size[1], shape.size[2]);
     case 'sphere': return new THREE.SphereBufferGeometry(shape.size[0], 24, 16);
     case 'cylinder': {
       // URDF cylinders lie along z; three.js's along y.
       const g = new THREE.CylinderBufferGeometry(shape.size[0], shape.size[0], shape.size[1], 24);
-      g.rotateX(Math.PI / 2);
-      return g;
-    }
-    case 'capsule': {
-      // r111 has no capsule: its profile (two quarter circles joined by the side) turned about y, then onto z.
-      const r = shape.size[0], half = 0.5 * shape.size[1], points = [];
-      for (let k = 0; k <= 8; ++k) {
-        const a = -Math.PI / 2 + (k / 8) * (Math.PI / 2);
-        points.push(new THREE.Vector2(r * Math.cos(a), -half + r * Math.sin(a)));
-      }
-      for (let k = 0; k <= 8; ++k) {
-        const a = (k / 8) * (Math.PI / 2);
-        points.push(new THREE.Vector2(r * Math.cos(a), half + r * Math.sin(a)));
-      }
-      const g = new THREE.LatheBufferGeometry(points, 24);
       g.rotateX(Math.PI / 2);
       return g;
     }
