@@ -185,6 +185,7 @@ void Simulation::coupleHands(const HandInputs& inputs) {
   for (int k = 0; k < n; ++k) {
     const InteractionInput& in = inputs.in[static_cast<size_t>(order_[static_cast<size_t>(k)])];
     HandOutcome& ho = outcome_.hands[static_cast<size_t>(outcome_.nhands++)];
+    ho = HandOutcome{};
     ho.client = in.client;  // every consumed input is named in the state, whatever its mode
     ho.input_seq = in.seq;
     const bool user = (in.mode == InteractionMode::Push && scene_.push.enabled) ||
@@ -294,7 +295,7 @@ bool Simulation::step(const HandInputs& hands) {
   // The stages (docs/architecture.md): the geometry placed and the contacts found at the start state,
   // the controls and the hands, then the dynamics (integrateStep: the coupled dynamics, their contact
   // solve and the configuration update).
-  outcome_ = StepOutcome{};
+  outcome_.restart();
   placeGeometry(hands);
   if (detection_) detection_->detect(placed_, contacts_);
   coupleHands(hands);

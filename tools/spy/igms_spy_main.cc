@@ -105,7 +105,7 @@ double deepest(const igms::contacts_t& m) {
 // Sent every few steps: its seq is the step's, so gaps are not losses (seq -1).
 template <>
 bool summarize<igms::contacts_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::contacts_t m;
+  igms::contacts_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "contacts_t";
   char buf[256];
@@ -118,7 +118,7 @@ bool summarize<igms::contacts_t>(const uint8_t* d, int n, std::string* name, std
 
 template <>
 bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::session_info_t m;
+  igms::session_info_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "session_info_t";
   *line = "scene " + m.scene_path + ", " + m.clock + ", " + m.build_version;
@@ -127,7 +127,7 @@ bool summarize<igms::session_info_t>(const uint8_t* d, int n, std::string* name,
 }
 template <>
 bool summarize<igms::session_files_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::session_files_t m;
+  igms::session_files_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "session_files_t";
   int64_t bytes = 0, meshes = m.nmeshes;
@@ -144,7 +144,7 @@ bool summarize<igms::session_files_t>(const uint8_t* d, int n, std::string* name
 }
 template <>
 bool summarize<igms::trajectory_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::trajectory_t m;
+  igms::trajectory_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "trajectory_t";
   *line = std::to_string(m.npoints) + " points of " + std::to_string(m.nq) + " coordinates";
@@ -154,7 +154,7 @@ bool summarize<igms::trajectory_t>(const uint8_t* d, int n, std::string* name, s
 // Every program's, once a second: the message checks' counts (several programs share the channel).
 template <>
 bool summarize<igms::bus_status_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::bus_status_t m;
+  igms::bus_status_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "bus_status_t";
   int64_t refused = 0;
@@ -172,7 +172,7 @@ bool summarize<igms::bus_status_t>(const uint8_t* d, int n, std::string* name, s
 // The haptic client's device, once a second: its calls' times, overruns, refused readings, limits.
 template <>
 bool summarize<igms::device_status_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::device_status_t m;
+  igms::device_status_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "device_status_t";
   char buf[320];
@@ -189,7 +189,7 @@ bool summarize<igms::device_status_t>(const uint8_t* d, int n, std::string* name
 // A device on the bus (igms-haptic --device lcm): its readings, and the forces back.
 template <>
 bool summarize<igms::device_reading_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::device_reading_t m;
+  igms::device_reading_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "device_reading_t";
   char buf[200];
@@ -201,7 +201,7 @@ bool summarize<igms::device_reading_t>(const uint8_t* d, int n, std::string* nam
 }
 template <>
 bool summarize<igms::device_force_t>(const uint8_t* d, int n, std::string* name, std::string* line, int64_t* seq) {
-  igms::device_force_t m;
+  igms::device_force_t m{};
   if (!igms::safeDecode(d, n, &m)) return false;
   *name = "device_force_t";
   char buf[200];
