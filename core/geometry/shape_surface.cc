@@ -37,7 +37,7 @@ TriangleMesh lathe(const std::vector<ProfilePoint>& profile, int segments) {
   return m;
 }
 
-// Quarter circles of radius r about z = centre, from angle `from` to `to` (radians from the equator),
+// An arc of radius r about z = centre, from angle `from` to `to` (radians from the equator),
 // `steps` intervals, the first point included and the last not.
 void arc(std::vector<ProfilePoint>& out, double r, double centre, double from, double to, int steps) {
   for (int k = 0; k < steps; ++k) {
