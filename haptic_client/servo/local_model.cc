@@ -38,6 +38,7 @@ void LocalModel::kinematicStep(double h) {
 bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to,
                      std::vector<SE3>& links, std::vector<Motion>* velocities) {
   last_steps_ = 0;
+  last_cut_short_ = false;
   // The first step taken by the model: with free bodies, the first input kept (bodies and contacts
   // throughout); else the first that interacts.
   const int64_t oldest = std::max(from + 1, to - SentInputs::kCapacity + 1);
@@ -57,8 +58,15 @@ bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t
   sim_.setState(t, q_, v_, qdd_, state.mode != 0);
   // Then the server's step itself, input by input.
   for (; s <= to && last_steps_ < max_steps_; ++s, ++last_steps_) {
+    const int64_t unconverged = sim_.contactStats().unconverged;
     if (!sim_.step(&inputs.at(s))) break;
     max_penetration_ = std::max(max_penetration_, sim_.contacts().maxPenetration());
+    if (sim_.contactStats().unconverged > unconverged && s < to && last_steps_ + 1 < max_steps_) {
+      last_cut_short_ = true;
+      ++cut_short_;
+      ++s, ++last_steps_;
+      break;
+    }
   }
   q_ = sim_.q();
   v_ = sim_.v();

@@ -48,11 +48,17 @@ class LocalModel {
   // The robot after the inputs (from, to] (seqs) applied to `state`, one step
   // each (at most max_steps; beyond, carried kinematically). false when none
   // of them interacts in a scene without free bodies: then the caller's
-  // kinematic prediction is as good.
+  // kinematic prediction is as good. After a step whose contact solve ran to
+  // its sweep limit (up to ~1 ms) it carries on kinematically: such a step
+  // stays in the window for the round trip and would be paid every cycle.
   // velocities (optional): every link's velocity there, world axes.
   bool run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to, std::vector<SE3>& links,
            std::vector<Motion>* velocities = nullptr);
   int lastSteps() const { return last_steps_; }
+  // Whether the last run stopped after a step whose contact solve ran to its sweep limit, and how many
+  // runs did, since construction.
+  bool lastCutShort() const { return last_cut_short_; }
+  int64_t cutShort() const { return cut_short_; }
   // The deepest overlap of two things in contact at the start of any step this model took (m): how far
   // its estimate put a body inside another.
   double maxPenetration() const { return max_penetration_; }
@@ -66,6 +72,8 @@ class LocalModel {
   double max_penetration_ = 0.0;
   VectorX q_, v_, qdd_, q_next_, v_mid_;
   int last_steps_ = 0;
+  bool last_cut_short_ = false;
+  int64_t cut_short_ = 0;
 };
 
 }  // namespace igms

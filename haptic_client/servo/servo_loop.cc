@@ -159,6 +159,7 @@ double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
     stats_.local_steps = local_->lastSteps();
     stats_.local_runs.fetch_add(1, std::memory_order_relaxed);
     stats_.local_max_penetration = local_->maxPenetration();
+    stats_.local_cut_short = local_->cutShort();
     if (!on_time) ++stats_.fallbacks;
     return horizon;
   }
