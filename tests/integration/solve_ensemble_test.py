@@ -1,0 +1,53 @@
+#!/usr/bin/python3
+"""scripts/bench/solve_ensemble.py, as a person runs it: with one run per scene (a move of 0 nm) each
+row is the shipped scene's own run, so its count and residual are igms-scenario's on the scene itself;
+with two, the 1 nm move is a different run (the count is chaotic, docs/environment.md) and the total
+is the sum of both.
+  solve_ensemble_test.py BUILD_DIR"""
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+SCRIPT = os.path.join(ROOT, "scripts", "bench", "solve_ensemble.py")
+
+
+def rows(build, runs):
+    out = subprocess.run([sys.executable, SCRIPT, "--build", build, "--runs", str(runs)], check=True,
+                         capture_output=True, text=True).stdout.splitlines()
+    assert out[0].split()[:2] == ["scene", "device"], out[0]
+    return [line.split() for line in out[1:]]
+
+
+def main():
+    build = os.path.abspath(sys.argv[1])
+    scenario = os.path.join(build, "tools", "igms-scenario")
+    failures = []
+    one = rows(build, 1)
+    if len(one) != 4:
+        failures.append(f"4 scenes, not {len(one)}")
+    for scene, device, total, median, largest, worst, dense in one:
+        cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene),
+               "--seconds", "6" if device != "-" else "8"]
+        if device != "-":
+            cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", device)]
+        solve = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)["contact_solve"]
+        same = (int(total) == solve["unconverged"] == int(largest) and float(median) == solve["unconverged"]
+                and int(dense) == solve["polish_rounds"] and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"])
+        print(f"{'ok  ' if same else 'FAIL'} {scene} {device}: {total} unconverged, {dense} dense solves "
+              f"(igms-scenario on the scene: {solve['unconverged']}, {solve['polish_rounds']})")
+        if not same:
+            failures.append(f"{scene} {device}")
+    two = rows(build, 2)
+    for (scene, device, total, *_), (_, _, total1, *_) in zip(two, one):
+        if int(total) < int(total1):
+            failures.append(f"{scene} {device}: two runs' total {total} below the first run's {total1}")
+    if failures:
+        print("FAILED: " + "; ".join(failures), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
