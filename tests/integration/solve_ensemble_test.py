@@ -11,6 +11,8 @@ import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 SCRIPT = os.path.join(ROOT, "scripts", "bench", "solve_ensemble.py")
+sys.path.insert(0, os.path.dirname(SCRIPT))
+from solve_ensemble import CASES  # noqa: E402  (the scenes, devices and durations the script runs)
 
 
 def rows(build, runs):
@@ -25,13 +27,12 @@ def main():
     scenario = os.path.join(build, "tools", "igms-scenario")
     failures = []
     one = rows(build, 1)
-    if len(one) != 4:
-        failures.append(f"4 scenes, not {len(one)}")
-    for scene, device, total, median, largest, worst, dense in one:
-        cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene),
-               "--seconds", "6" if device != "-" else "8"]
-        if device != "-":
-            cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", device)]
+    if len(one) != len(CASES):
+        failures.append(f"{len(CASES)} scenes, not {len(one)}")
+    for (scene, device, total, median, largest, worst, dense), (_, script, seconds) in zip(one, CASES):
+        cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene), "--seconds", str(seconds)]
+        if script:
+            cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", script)]
         solve = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)["contact_solve"]
         same = (int(total) == solve["unconverged"] == int(largest) and float(median) == solve["unconverged"]
                 and int(dense) == solve["polish_rounds"] and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"])
