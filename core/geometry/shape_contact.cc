@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/geometry/convex_distance.h"
 #include "core/geometry/mesh_query.h"
@@ -291,14 +292,16 @@ void boxFaces(const CollisionShape& a, const SE3& pa, const CollisionShape& b, c
     for (const double side : {1.0, -1.0}) {
       const Vector3 out = side * pr.R.col(axis);
       const double limit = out.dot(pr.p) + hr[axis];
+      // A quadrilateral clipped by four lines keeps at most eight corners; where round-off puts a
+      // corner on a line both in and out, the extra ones are duplicates (reduce drops them): not written.
       int k = 0;
       for (int e = 0; e < m; ++e) {
         const Vector3 &p = poly[e], &q = poly[(e + 1) % m];
         const double dp = out.dot(p) - limit, dq = out.dot(q) - limit;
-        if (dp <= 0.0) next[k++] = p;
-        if ((dp < 0.0) != (dq < 0.0) && dp != dq) next[k++] = p + (q - p) * (dp / (dp - dq));
+        if (dp <= 0.0 && k < 8) next[k++] = p;
+        if ((dp < 0.0) != (dq < 0.0) && dp != dq && k < 8) next[k++] = p + (q - p) * (dp / (dp - dq));
       }
-      m = std::min(k, 8);
+      m = k;
       for (int e = 0; e < m; ++e) poly[e] = next[e];
     }
   // What is left, below the reference face by less than the margin: a contact each.
@@ -309,6 +312,83 @@ void boxFaces(const CollisionShape& a, const SE3& pa, const CollisionShape& b, c
     if (a_refers) c.add(on_ref, poly[e], n, depth);
     else c.add(poly[e], on_ref, n, depth);
   }
+}
+
+// Two boxes by their 15 separating axes (Gottschalk, Lin, Manocha 1996): the three face normals of
+// each and the nine products of an edge of one with an edge of the other. Along each, the boxes
+// overlap by the sum of their half-widths less the centres' distance. Where they overlap, the least
+// of these is the exact depth (the Minkowski difference of two boxes has no other face normals) and
+// its axis the exact normal, where EPA finds both only to its tolerance and costs a polytope. Apart,
+// the largest gap along an axis is a lower bound of their distance, and it is the distance where a
+// pair of points realises it. A face's axis gives the other box's face clipped to that face
+// (boxFaces); an edge pair's the edges' nearest points. \return false where the axes do not settle
+// it (apart, and no pair of points at the axis's gap: a corner nearest a corner): GJK measures it.
+bool boxesBySeparatingAxes(const CollisionShape& a, const SE3& pa, const CollisionShape& b, const SE3& pb,
+                           double margin, Candidates& c) {
+  // An edge pair's axis is taken only where it beats every face's by this much: where they tie (a
+  // face against a face, turned) the face's clip gives the whole contact, the edges one point of it.
+  constexpr double kFaceFirst = 1e-9;  // m
+  constexpr double kParallel = 1e-6;   // |edge x edge| below this: parallel edges, a face's axis already
+  constexpr double kRealised = 1e-9;   // m: a pair of points this near the axis's gap realises it
+  const Vector3 ha = 0.5 * a.size, hb = 0.5 * b.size;
+  const Vector3 t = pb.p - pa.p;
+  // The separation along unit axis u (positive: a gap).
+  auto separation = [&](const Vector3& u) {
+    double r = 0.0;
+    for (int k = 0; k < 3; ++k) r += ha[k] * std::abs(pa.R.col(k).dot(u)) + hb[k] * std::abs(pb.R.col(k).dot(u));
+    return std::abs(t.dot(u)) - r;
+  };
+  double best = -std::numeric_limits<double>::infinity();
+  Vector3 axis = Vector3::UnitZ();
+  for (int k = 0; k < 6; ++k) {
+    const Vector3 u = k < 3 ? Vector3(pa.R.col(k)) : Vector3(pb.R.col(k - 3));
+    const double s = separation(u);
+    if (s >= margin) return true;  // apart by at least the margin: no contact
+    if (s > best) {
+      best = s;
+      axis = u;
+    }
+  }
+  const double best_face = best;
+  int edge_i = -1, edge_j = -1;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      Vector3 u = pa.R.col(i).cross(pb.R.col(j));
+      const double len = u.norm();
+      if (len < kParallel) continue;
+      u /= len;
+      const double s = separation(u);
+      if (s >= margin) return true;
+      if (s > best && s > best_face + kFaceFirst) {
+        best = s;
+        axis = u;
+        edge_i = i;
+        edge_j = j;
+      }
+    }
+  const Vector3 n = t.dot(axis) < 0.0 ? Vector3(-axis) : axis;  // from a toward b
+  const int before = c.n;
+  if (edge_i < 0) {
+    boxFaces(a, pa, b, pb, n, margin, c);
+    // Nothing of the other face over this one, or apart and no point at the axis's gap: GJK/EPA decides.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int k = before; k < c.n; ++k) nearest = std::min(nearest, c.p[k].distance);
+    if (c.n > before && (best < 0.0 || nearest < best + kRealised)) return true;
+    c.n = before;
+    return false;
+  }
+  // The edge of a along its axis edge_i farthest toward b, and b's along edge_j farthest toward a.
+  Vector3 ca = pa.p, cb = pb.p;
+  for (int k = 0; k < 3; ++k) {
+    if (k != edge_i) ca += (pa.R.col(k).dot(n) > 0.0 ? ha[k] : -ha[k]) * pa.R.col(k);
+    if (k != edge_j) cb -= (pb.R.col(k).dot(n) > 0.0 ? hb[k] : -hb[k]) * pb.R.col(k);
+  }
+  const Vector3 ea = ha[edge_i] * pa.R.col(edge_i), eb = hb[edge_j] * pb.R.col(edge_j);
+  Vector3 on_a, on_b;
+  nearestOnSegments(ca - ea, ca + ea, cb - eb, cb + eb, on_a, on_b);
+  if (best >= 0.0 && (on_b - on_a).norm() > best + kRealised) return false;  // the edges' ends apart: GJK
+  c.add(on_a, on_b, n, best);
+  return true;
 }
 
 // GJK/EPA's normal, or the face normal it estimates: where a box's face or a cylinder's cap lies on the
@@ -445,6 +525,8 @@ int shapeContacts(const CollisionShape& a, const SE3& pa, const CollisionShape& 
     }
   } else if (a.kind == Kind::Capsule && b.kind == Kind::Capsule) {
     capsules(a, pa, b, pb, margin, c);
+  } else if (a.kind == Kind::Box && b.kind == Kind::Box && boxesBySeparatingAxes(a, pa, b, pb, margin, c)) {
+    // their points are in c
   } else {
     ConvexShape ca, cb;
     convexOf(a, pa, &ca);

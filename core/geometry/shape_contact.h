@@ -7,6 +7,8 @@
 //   capsule-capsule: the segments' nearest points, and each end against the other (exact);
 //   box, cylinder, capsule: GJK/EPA's deepest point (convex_distance.h), plus each shape's
 //     corners (box), rim points (cylinder) or ends (capsule) against the other, exactly;
+//   two overlapping boxes: their 15 separating axes, the least overlap's (exact depth and normal):
+//     a face's gives the other box's face clipped to it, an edge pair's the edges' nearest points;
 //   a plane: the other shape's lowest points (exact for every primitive: a cylinder's lowest rim
 //     point per cap, a box's corners) and a mesh's sample points;
 //   a mesh: the other shape's points against the mesh's distance field, and the mesh's sample

@@ -471,9 +471,14 @@ TEST(ContactAnalytic, AWorkcellOfTwoRobotsAndFreeBodiesBehaves) {
               ball.p.z(), a.p.z(), b.p.z(), turned(a), turned(b), std::abs(sim.q()[go1_z] - trunk_at_4), overlap);
   EXPECT_NEAR(ball.p.z(), floor + half, 1e-4) << "the ball was knocked off the table onto the floor";
   EXPECT_NEAR(a.p.z(), table_top + half, 1e-4) << "box_a lies on the table";
-  // box_b, knocked over the table's far edge, ends pinned between the arm's forearm and that edge:
-  // not on the table, and not inside it (its corners below the top are beyond the edge).
-  EXPECT_GT(b.p.z(), table_top + half - 1e-4) << "box_b is not pushed into the table";
+  // box_b is knocked over the table's far end (y 0.5): where it ends is chaotic (pinned between the
+  // forearm and that edge with EPA's normals; on the floor with the two boxes' separating axes), but
+  // never inside the table: above its top, or its centre beyond the table's footprint (x 0.3 .. 0.6,
+  // y -0.5 .. 0.5) by more than its half width.
+  const bool above = b.p.z() > table_top + half - 1e-4,
+             beyond = std::abs(b.p.x() - 0.45) > 0.15 + half - 1e-4 || std::abs(b.p.y()) > 0.5 + half - 1e-4;
+  EXPECT_TRUE(above || beyond) << "box_b is not pushed into the table: at " << b.p.transpose();
+  if (!above) EXPECT_NEAR(b.p.z(), floor + half, 1e-4) << "off the table, box_b lies on the floor";
   EXPECT_GT(std::max(turned(a), turned(b)), 0.8) << "the arm knocked a box over";
   for (const FreeBodyState& s : {a, b}) EXPECT_LT(s.v.norm() + s.w.norm() * half, 1e-3) << "the boxes rest";
   // Each box's contacts carry its weight and what it still gains in momentum, whatever they are (a
