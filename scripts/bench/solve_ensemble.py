@@ -5,7 +5,8 @@ One run's count is chaotic where boxes are knocked together (docs/environment.md
 by a few nm changes puma_table's count from 30 to 327), so a change to the solver is judged on the
 sum over many runs. Each scene is run N times with its first free body moved k nm along x
 (k = 0 .. N-1), with igms-scenario; per scene: the total, the median and the largest count, the
-largest residual (m/s) and the active-set solve's dense solves.
+largest residual (m/s), the active-set solve's dense solves and the position corrections that stopped
+at their sweep limit.
 
   scripts/bench/solve_ensemble.py [--build build] [--runs 12]
 """
@@ -41,10 +42,10 @@ def main():
     # The variants sit beside scenes/ so that their relative model paths resolve as the originals'.
     work = tempfile.mkdtemp(prefix=".solve_ensemble_", dir=ROOT)
     try:
-        print(f"{'scene':<18} {'device':<20} {'total':>6} {'median':>7} {'max':>5} {'worst residual':>15} {'dense solves':>13}")
+        print(f"{'scene':<18} {'device':<20} {'total':>6} {'median':>7} {'max':>5} {'worst residual':>15} {'dense solves':>13} {'position':>9}")
         for scene, device, seconds in CASES:
             text = open(os.path.join(ROOT, "scenes", scene)).read()
-            counts, worst, rounds = [], 0.0, 0
+            counts, worst, rounds, position = [], 0.0, 0, 0
             for k in range(args.runs):
                 path = os.path.join(work, f"{k}_{scene}")
                 with open(path, "w") as f:
@@ -56,8 +57,9 @@ def main():
                 counts.append(solve["unconverged"])
                 worst = max(worst, solve["max_residual"])
                 rounds += solve["polish_rounds"]
+                position += solve["position_unconverged"]
             print(f"{scene:<18} {device or '-':<20} {sum(counts):>6} {statistics.median(counts):>7g} {max(counts):>5} "
-                  f"{worst:>15.1e} {rounds:>13}")
+                  f"{worst:>15.1e} {rounds:>13} {position:>9}")
     finally:
         shutil.rmtree(work)
 

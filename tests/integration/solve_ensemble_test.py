@@ -29,15 +29,16 @@ def main():
     one = rows(build, 1)
     if len(one) != len(CASES):
         failures.append(f"{len(CASES)} scenes, not {len(one)}")
-    for (scene, device, total, median, largest, worst, dense), (_, script, seconds) in zip(one, CASES):
+    for (scene, device, total, median, largest, worst, dense, position), (_, script, seconds) in zip(one, CASES):
         cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene), "--seconds", str(seconds)]
         if script:
             cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", script)]
         solve = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)["contact_solve"]
         same = (int(total) == solve["unconverged"] == int(largest) and float(median) == solve["unconverged"]
-                and int(dense) == solve["polish_rounds"] and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"])
-        print(f"{'ok  ' if same else 'FAIL'} {scene} {device}: {total} unconverged, {dense} dense solves "
-              f"(igms-scenario on the scene: {solve['unconverged']}, {solve['polish_rounds']})")
+                and int(dense) == solve["polish_rounds"] and int(position) == solve["position_unconverged"] and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"])
+        print(f"{'ok  ' if same else 'FAIL'} {scene} {device}: {total} unconverged, {dense} dense solves, {position} "
+              f"position corrections unconverged (igms-scenario on the scene: {solve['unconverged']}, "
+              f"{solve['polish_rounds']}, {solve['position_unconverged']})")
         if not same:
             failures.append(f"{scene} {device}")
     two = rows(build, 2)
