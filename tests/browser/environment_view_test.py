@@ -75,10 +75,24 @@ def open_page(driver, page_url):
     return page
 
 
+# The tip's radius (scenes/puma_table.yaml, interaction.push.tip_radius) and how far below a standing
+# box's top edge the drag presses its face.
+TIP_RADIUS, BELOW_TOP_EDGE = 0.01, 0.015
+
+
 def push_box(checks, driver, page, box, start):
-    """A drag on the box with the wheel turned 40 notches into the screen; how far the box moved, m."""
+    """A drag on the box with the wheel turned 40 notches into the screen; how far the box moved, m.
+    It presses the face that meets the camera most squarely, as a person would press it: on the face,
+    not on its edge. (Under perspective the squarest pixel of a side face lies along its top edge; a
+    tip of 1 cm radius pressed 1 mm below that edge is as near the top face as the side, and where its
+    proxy settled on the top the push went down into the box and the table: 0.9 cm in 1 of 8 runs.)"""
     at = page.js("return window.igms.pointOnLink(arguments[0])", box)
     checks.check(at is not None, "the box is under some pixel", str(at))
+    point = list(at["point"])
+    point[2] = min(point[2], start[2] + 0.04 - BELOW_TOP_EDGE)  # the box stands: its top at z + 0.04
+    assert BELOW_TOP_EDGE > TIP_RADIUS
+    at = page.js("return window.igms.screenOf(arguments[0])", point)
+    at = {"x": round(at["x"]), "y": round(at["y"])}
     actions = ActionChains(driver)
     actions.w3c_actions.pointer_action.move_to_location(at["x"], at["y"])
     actions.w3c_actions.pointer_action.pointer_down()
