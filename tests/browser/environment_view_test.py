@@ -75,9 +75,9 @@ def open_page(driver, page_url):
     return page
 
 
-# The tip's radius (scenes/puma_table.yaml, interaction.push.tip_radius) and how far below a standing
-# box's top edge the drag presses its face.
-TIP_RADIUS, BELOW_TOP_EDGE = 0.01, 0.015
+# How far below a standing box's top edge the drag presses its face: more than the tip's radius
+# (scenes/puma_table.yaml, interaction.push.tip_radius: 1 cm).
+BELOW_TOP_EDGE = 0.015
 
 
 def push_box(checks, driver, page, box, start):
@@ -90,7 +90,6 @@ def push_box(checks, driver, page, box, start):
     checks.check(at is not None, "the box is under some pixel", str(at))
     point = list(at["point"])
     point[2] = min(point[2], start[2] + 0.04 - BELOW_TOP_EDGE)  # the box stands: its top at z + 0.04
-    assert BELOW_TOP_EDGE > TIP_RADIUS
     at = page.js("return window.igms.screenOf(arguments[0])", point)
     at = {"x": round(at["x"]), "y": round(at["y"])}
     actions = ActionChains(driver)
