@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/contact/patch_radius.h"
 #include "core/model/ancestor_runs.h"
 
 namespace igms {
@@ -25,54 +26,6 @@ template <typename M>
 M regularisedInverse(const M& W) {
   const double eps = 1e-10 * W.diagonal().maxCoeff() + 1e-300;
   return (W + eps * M::Identity()).inverse();
-}
-
-// A patch's torsion radius: the mean distance from its centroid over the region its carrying points
-// span, under uniform pressure (a box's face on the floor: its rectangle; a cylinder lying down: its
-// line), so that spinning it takes mu N times that. The mean of the points' own distances (the
-// corners') overstated it: 1.85 times for a square, twice for a line.
-double patchRadius(const ContactSet& contacts, int first, int end, const ContactGroup& g) {
-  double u[kMaxPairPoints], v[kMaxPairPoints], angle[kMaxPairPoints];
-  int n = 0;
-  for (int k = first; k < end; ++k) {
-    if (!g.carries[k - first]) continue;
-    const Vector3 r = contacts[k].point - g.centroid;
-    u[n] = r.dot(g.t1);
-    v[n] = r.dot(g.t2);
-    angle[n] = std::atan2(v[n], u[n]);
-    ++n;
-  }
-  if (n < 2) return 0.0;
-  // Around the centroid by angle: the points' polygon (up to four: convex as the detection spreads them).
-  int order[kMaxPairPoints];
-  for (int k = 0; k < n; ++k) {  // insertion sort: a handful of points
-    int j = k;
-    for (; j > 0 && angle[order[j - 1]] > angle[k]; --j) order[j] = order[j - 1];
-    order[j] = k;
-  }
-  double area = 0.0, moment = 0.0;  // the polygon's area and the integral of |r| over it
-  for (int k = 0; n > 2 && k < n; ++k) {
-    const int a = order[k], b = order[(k + 1) % n];
-    // The triangle (centroid, a, b): with d the centroid's distance to the line ab and s the signed
-    // position along it from the foot, the integral of |r| is [d s rho + d^3 ln(rho + s)] / 6 between
-    // the ends (rho = sqrt(d^2 + s^2)).
-    const double ex = u[b] - u[a], ey = v[b] - v[a], len = std::hypot(ex, ey);
-    if (!(len > 0.0)) continue;
-    const double d = std::abs(u[a] * ey - v[a] * ex) / len;
-    const double sa = (u[a] * ex + v[a] * ey) / len, sb = (u[b] * ex + v[b] * ey) / len;
-    auto primitive = [&](double s) {
-      const double rho = std::hypot(d, s);
-      return d * s * rho + (d > 0.0 ? d * d * d * std::log(rho + s) : 0.0);
-    };
-    area += 0.5 * d * std::abs(sb - sa);
-    moment += std::abs(primitive(sb) - primitive(sa)) / 6.0;
-  }
-  // A line (two points, or points all but in a row): uniform along it, a quarter of its length.
-  double extent = 0.0;
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b) extent = std::max(extent, std::hypot(u[a] - u[b], v[a] - v[b]));
-  if (!(area > 1e-6 * extent * extent)) return 0.25 * extent;
-  return moment / area;
 }
 
 }  // namespace
@@ -174,7 +127,19 @@ void ContactRows::frame(ContactGroup& g) const {
   g.centroid /= touching;
   g.n = normal.normalized();
   tangents(g.n, g.t1, g.t2);
-  g.radius = g.patch ? patchRadius(contacts, i, end, g) : 0.0;
+  g.radius = 0.0;
+  if (g.patch) {  // the torsion radius of the carrying points, in the patch's plane
+    double u[kMaxPairPoints], v[kMaxPairPoints];
+    int n = 0;
+    for (int k = i; k < end; ++k) {
+      if (!g.carries[k - i]) continue;
+      const Vector3 r = contacts[k].point - g.centroid;
+      u[n] = r.dot(g.t1);
+      v[n] = r.dot(g.t2);
+      ++n;
+    }
+    g.radius = patchTorsionRadius(u, v, n);
+  }
   g.framed = true;
 }
 

@@ -60,7 +60,7 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
     Vector3 f(prev.friction.dot(g.t1), prev.friction.dot(g.t2), g.patch ? prev.torsion : 0.0);
     // Inside the cone (or the patch's ellipsoid) of today's load.
     const double rad = g.patch && g.radius > 0.0 ? g.radius : 1.0;
-    const double size = std::hypot(std::hypot(f.x(), f.y()), f.z() / rad), cap = g.mu * N;
+    const double size = std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad)), cap = g.mu * N;
     if (size > cap) f *= cap / size;
     g.lambda.segment<2>(P) = f.head<2>();
     if (g.patch) g.lambda[P + 2] = f.z();
@@ -123,7 +123,7 @@ bool ContactSolver::anySliding() const {
     for (int k = 0; k < P; ++k) N += std::max(g.lambda[k], 0.0);
     const double cap = g.mu * N;
     const double rad = g.patch && g.radius > 0.0 ? g.radius : 1.0;
-    const double size = std::hypot(std::hypot(g.lambda[P], g.lambda[P + 1]), g.patch ? g.lambda[P + 2] / rad : 0.0);
+    const double size = std::sqrt(g.lambda[P] * g.lambda[P] + g.lambda[P + 1] * g.lambda[P + 1] + (g.patch ? (g.lambda[P + 2] / rad) * (g.lambda[P + 2] / rad) : 0.0));
     if (cap > 0.0 && size >= (1.0 - 1e-9) * cap) return true;
   }
   return false;

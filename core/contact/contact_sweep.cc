@@ -65,7 +65,7 @@ void solvePatch(ContactGroup& g, ContactRowVector u) {
   Vector3 l = Vector3::Zero();
   if (N > 0.0) {
     const double rad = g.radius;
-    auto size = [&](const Vector3& f) { return rad > 0.0 ? std::hypot(std::hypot(f.x(), f.y()), f.z() / rad) : f.head<2>().norm(); };
+    auto size = [&](const Vector3& f) { return rad > 0.0 ? std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad)) : f.head<2>().norm(); };
     l = lam - g.friction_inverse * uf;
     if (rad <= 0.0) l.z() = 0.0;
     if (size(l) > g.mu * N) {
