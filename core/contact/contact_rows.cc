@@ -47,6 +47,8 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
   max_entries_ = 2 * deepest;
   sign_.resize(static_cast<size_t>(max_entries_));
   up_.resize(static_cast<size_t>(max_entries_));
+  link_.resize(static_cast<size_t>(max_entries_));
+  link_value_.resize(static_cast<size_t>(max_entries_));
   groups_.resize(static_cast<size_t>(capacity));
   dof_.resize(static_cast<size_t>(capacity * max_entries_));
   invD_.resize(dof_.size());
@@ -270,13 +272,26 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
     up[e] = parent < 0 ? -1 : a;
   }
   std::copy(J_.begin() + g.first_value, J_.begin() + g.first_value + g.rows * g.entries, X_.begin() + g.first_value);
-  for (int e = g.entries - 1; e >= 0; --e) {
-    const double* const lk = LD.column(dof_[static_cast<size_t>(g.first_entry + e)]);
-    for (int r = 0; r < g.rows; ++r) {
-      double* const X = X_.data() + g.first_value + r * g.entries;
-      const double xk = X[e];
-      if (xk == 0.0) continue;
-      for (int a = up[e]; a >= 0; a = up[a]) X[a] -= lk[dof_[static_cast<size_t>(g.first_entry + a)]] * xk;
+  {  // each entry's chain walked once into a list with its L values, which every row then reads (walking
+     // the links per row made each update wait on the last link's load)
+    const int R = g.rows, E = g.entries;
+    double* const X = X_.data() + g.first_value;
+    const int* const dof = dof_.data() + g.first_entry;
+    int* const link = link_.data();
+    double* const lval = link_value_.data();
+    for (int e = E - 1; e >= 0; --e) {
+      const double* const lk = LD.column(dof[e]);
+      int n = 0;
+      for (int a = up[e]; a >= 0; a = up[a], ++n) {
+        link[n] = a;
+        lval[n] = lk[dof[a]];
+      }
+      for (int r = 0; r < R; ++r) {
+        double* const x = X + r * E;
+        const double xk = x[e];
+        if (xk == 0.0) continue;
+        for (int j = 0; j < n; ++j) x[link[j]] -= lval[j] * xk;
+      }
     }
   }
   for (int r = 0; r < g.rows; ++r)  // every entry any solve reads (its rows x rows): no zeroing

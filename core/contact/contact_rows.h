@@ -144,6 +144,8 @@ class ContactRows {
   int entry_ = 0, value_ = 0;                 // the next group's first entry and value
   std::vector<Motion> twist_;                 // build(): per body, under v_free
   std::vector<int> up_;                       // build(): per entry, its parent dof's entry (-1: none)
+  std::vector<int> link_;                     // complete(): one entry's chain upward (entries)
+  std::vector<double> link_value_;            // complete(): L's values along it
   std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
   std::vector<int> tree_count_;
   std::vector<char> tree_touched_;

@@ -445,6 +445,10 @@ int reduce(const Candidates& c, ContactPoint* out) {
   int chosen = 0;
   // Picks the best of [chosen, end) by score into place `chosen`.
   auto pick = [&](int end, auto score) {
+    if (end - chosen == 1) {  // one left: no score to take (the last corner's three were the dearest)
+      ++chosen;
+      return;
+    }
     int best = chosen;
     double best_score = -1.0;
     for (int k = chosen; k < end; ++k) {
