@@ -8,7 +8,9 @@ sum over many runs. Each scene is run N times with its first free body moved k n
 largest residual (m/s), the active-set solve's dense solves and the position corrections that stopped
 at their sweep limit.
 
-  scripts/bench/solve_ensemble.py [--build build] [--runs 12]
+  scripts/bench/solve_ensemble.py [--build build] [--runs 12] [--first 0]
+
+Two ensembles of one build (--first 0 and --first 36, say) show how far a total moves by chance.
 """
 import argparse
 import json
@@ -36,7 +38,9 @@ def moved(text, nm):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"), help="the build directory (its tools/igms-scenario)")
-    ap.add_argument("--runs", type=int, default=12, help="runs per scene (moves of 0 .. runs-1 nm)")
+    ap.add_argument("--runs", type=int, default=12, help="runs per scene (moves of first .. first+runs-1 nm)")
+    ap.add_argument("--first", type=int, default=0,
+                    help="the first run's move, nm (another ensemble of the same build: its spread)")
     args = ap.parse_args()
     scenario = os.path.join(os.path.abspath(args.build), "tools", "igms-scenario")
     # The variants sit beside scenes/ so that their relative model paths resolve as the originals'.
@@ -46,7 +50,7 @@ def main():
         for scene, device, seconds in CASES:
             text = open(os.path.join(ROOT, "scenes", scene)).read()
             counts, worst, rounds, position = [], 0.0, 0, 0
-            for k in range(args.runs):
+            for k in range(args.first, args.first + args.runs):
                 path = os.path.join(work, f"{k}_{scene}")
                 with open(path, "w") as f:
                     f.write(moved(text, k))

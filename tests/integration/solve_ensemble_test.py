@@ -15,8 +15,8 @@ sys.path.insert(0, os.path.dirname(SCRIPT))
 from solve_ensemble import CASES  # noqa: E402  (the scenes, devices and durations the script runs)
 
 
-def rows(build, runs):
-    out = subprocess.run([sys.executable, SCRIPT, "--build", build, "--runs", str(runs)], check=True,
+def rows(build, runs, first=0):
+    out = subprocess.run([sys.executable, SCRIPT, "--build", build, "--runs", str(runs), "--first", str(first)], check=True,
                          capture_output=True, text=True).stdout.splitlines()
     assert out[0].split()[:2] == ["scene", "device"], out[0]
     return [line.split() for line in out[1:]]
@@ -45,6 +45,16 @@ def main():
     for (scene, device, total, *_), (_, _, total1, *_) in zip(two, one):
         if int(total) < int(total1):
             failures.append(f"{scene} {device}: two runs' total {total} below the first run's {total1}")
+    # --first: the second run alone (moved 1 nm) is what the two runs add to the first
+    second = rows(build, 1, first=1)
+    differs = False
+    for (scene, device, total, *_), (_, _, total1, *_), (_, _, total2, *_) in zip(two, one, second):
+        differs = differs or total2 != total1
+        if int(total) != int(total1) + int(total2):
+            failures.append(f"{scene} {device}: --first 1 gave {total2}, not the two runs' {total} less {total1}")
+    print(f"{'ok  ' if differs else 'FAIL'} --first 1 runs another ensemble: a count differs from --first 0's")
+    if not differs:
+        failures.append("--first 1 gave every count --first 0 gave (the move ignored?)")
     if failures:
         print("FAILED: " + "; ".join(failures), file=sys.stderr)
         return 1
