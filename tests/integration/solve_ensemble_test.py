@@ -48,13 +48,16 @@ def main():
     # --first: the second run alone (moved 1 nm) is what the two runs add to the first
     second = rows(build, 1, first=1)
     differs = False
-    for (scene, device, total, *_), (_, _, total1, *_), (_, _, total2, *_) in zip(two, one, second):
-        differs = differs or total2 != total1
+    for (scene, device, total, *_), first_row, second_row in zip(two, one, second):
+        total1, total2 = first_row[2], second_row[2]
+        # any figure (counts, residual, dense solves, corrections): the unconverged counts alone are all
+        # 0 once the solve converges everywhere, and the check would then fail for the wrong reason
+        differs = differs or second_row[2:] != first_row[2:]
         if int(total) != int(total1) + int(total2):
             failures.append(f"{scene} {device}: --first 1 gave {total2}, not the two runs' {total} less {total1}")
-    print(f"{'ok  ' if differs else 'FAIL'} --first 1 runs another ensemble: a count differs from --first 0's")
+    print(f"{'ok  ' if differs else 'FAIL'} --first 1 runs another ensemble: a figure differs from --first 0's")
     if not differs:
-        failures.append("--first 1 gave every count --first 0 gave (the move ignored?)")
+        failures.append("--first 1 gave every figure --first 0 gave (the move ignored?)")
     if failures:
         print("FAILED: " + "; ".join(failures), file=sys.stderr)
         return 1
