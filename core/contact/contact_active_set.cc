@@ -8,6 +8,43 @@
 
 namespace igms {
 
+namespace {
+
+constexpr double kInside = 1.0 - 1e-9;  // strictly inside the cone: sticking
+
+// A group's friction rows: a patch with a torsion radius has three (two tangents, the torsion).
+int frictionRows(const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; }
+// The friction's scaled coordinates (f_t, tau / r): the patch's ellipsoid is a ball there.
+Vector3 scaleOf(const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); }
+// Whether row r (past the normals) is at its limit: the friction's, or a resisting point's spin or
+// rolling (rows 3; 4 and 5).
+bool slidingRow(const ContactGroup& g, int r) {
+  if (g.resists && r >= 3) return r == 3 ? g.spin_sliding : g.roll_sliding;
+  return g.sliding;
+}
+
+// A group's trial friction s and its slip w (trial_u) in the scaled coordinates.
+void scaledFriction(const ContactGroup& g, Vector3& s, Vector3& w) {
+  const int P = g.points, F = frictionRows(g);
+  const Vector3 scale = scaleOf(g);
+  s.setZero();
+  w.setZero();
+  for (int f = 0; f < F; ++f) {
+    s[f] = g.trial[P + f] / scale[f];
+    w[f] = g.trial_u[P + f] * scale[f];
+  }
+}
+
+// The trial's load on a group's touching (unknown) normals.
+double tightLoad(const ContactGroup& g) {
+  double N = 0.0;
+  for (int k = 0; k < g.points; ++k)
+    if (g.unknown[k] >= 0) N += g.trial[k];
+  return N;
+}
+
+}  // namespace
+
 ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
     : island_(static_cast<size_t>(capacity)),
       queue_(static_cast<size_t>(capacity)),
@@ -18,6 +55,10 @@ ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
       x_(kPolishRows),
       pivot_(kPolishRows),
       zt_(VectorX::Zero(model.nv)),
+      y_(kPolishRows),
+      y_try_(kPolishRows),
+      V_(kMaxContactRows, kPolishRows),
+      backup_(static_cast<size_t>(capacity)),
       cache_first_(static_cast<size_t>(capacity)),
       cache_count_(static_cast<size_t>(capacity)),
       cache_group_(kCachedCouplings),
@@ -32,6 +73,8 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   }
   bool all = true;
   rounds_ = 0;
+  slips_unturned_ = 0;
+  slip_angle_ = 0.0;
   for (int seed = 0; seed < ng; ++seed) {
     if (island_[static_cast<size_t>(seed)] >= 0 || !rows.group(seed).complete) continue;
     int head = 0, tail = 0, n = 0;
@@ -94,42 +137,107 @@ bool ContactActiveSet::luSolve(int nx) {
 // An active-set method on one island: from the sweeps' guess, solve the tight rows exactly; where the
 // answer breaks a condition (a normal pulls, a free point crosses, a sticking friction leaves the cone,
 // a slipping one pushes along its slip), change that row's guess and solve again.
-bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) {
-  constexpr int kRounds = 24;
-  constexpr double kInside = 1.0 - 1e-9;  // strictly inside the cone: sticking
-  auto group = [&](int m) -> ContactGroup& { return rows.group(members_[static_cast<size_t>(m)]); };
-  auto frictionRows = [](const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; };
-  auto scaleOf = [](const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); };
-  // Whether row r (past the normals) is at its limit: the friction's, or a resisting point's spin or
-  // rolling (rows 3; 4 and 5).
-  auto slidingRow = [](const ContactGroup& g, int r) {
-    if (g.resists && r >= 3) return r == 3 ? g.spin_sliding : g.roll_sliding;
-    return g.sliding;
-  };
-  // Each other member h coupled to member m (sharing a tree), once: visit(W_mh, h).
-  auto forEachCoupled = [&](int m, auto&& visit) {
-    if (cache_count_[static_cast<size_t>(m)] >= 0) {
-      const int first = cache_first_[static_cast<size_t>(m)];
-      for (int k = first; k < first + cache_count_[static_cast<size_t>(m)]; ++k)
-        visit(cache_block_[static_cast<size_t>(k)], rows.group(cache_group_[static_cast<size_t>(k)]));
-      return;
+// Each other member h coupled to member m (sharing a tree), once: visit(W_mh, h).
+template <typename Visit>
+void ContactActiveSet::forEachCoupled(ContactRows& rows, int m, Visit&& visit) {
+  if (cache_count_[static_cast<size_t>(m)] >= 0) {
+    const int first = cache_first_[static_cast<size_t>(m)];
+    for (int k = first; k < first + cache_count_[static_cast<size_t>(m)]; ++k)
+      visit(cache_block_[static_cast<size_t>(k)], rows.group(cache_group_[static_cast<size_t>(k)]));
+    return;
+  }
+  const ContactGroup& g = rows.group(members_[static_cast<size_t>(m)]);
+  const int me = members_[static_cast<size_t>(m)];
+  for (const int t : {g.tree_a, g.tree_b}) {
+    if (t < 0) continue;
+    for (int k = 0; k < rows.treeGroups(t); ++k) {
+      const int h = rows.treeGroup(t, k);
+      if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
+      stamp_[static_cast<size_t>(h)] = me;
+      rows.coupling(g, rows.group(h), W_);
+      visit(W_, rows.group(h));
     }
-    const ContactGroup& g = group(m);
-    const int me = members_[static_cast<size_t>(m)];
-    for (const int t : {g.tree_a, g.tree_b}) {
-      if (t < 0) continue;
-      for (int k = 0; k < rows.treeGroups(t); ++k) {
-        const int h = rows.treeGroup(t, k);
-        if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
-        stamp_[static_cast<size_t>(h)] = me;
-        rows.coupling(g, rows.group(h), W_);
-        visit(W_, rows.group(h));
+  }
+  for (const int t : {g.tree_a, g.tree_b})  // unstamp for the next pass
+    if (t >= 0)
+      for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
+}
+
+// The trial impulses' velocities (trial_u) over the island.
+void ContactActiveSet::trialVelocities(ContactRows& rows, int n) {
+  for (int m = 0; m < n; ++m) rows.add(member(rows, m), member(rows, m).trial, member(rows, m).rows, zt_);
+  for (int m = 0; m < n; ++m) {
+    ContactGroup& g = member(rows, m);
+    g.trial_u = g.b + rows.velocity(g, zt_, g.rows);
+  }
+  for (int m = 0; m < n; ++m) rows.clear(member(rows, m), zt_);
+}
+
+// Every condition on the trial; the one that breaks worst (measured as a velocity: a pull by what its
+// impulse would move its point, a crossing by its speed, a friction outside its cone by how far
+// outside, one slipping along itself by its slip) in worst_group, worst_row (-1: none breaks).
+// \return the touching normals whose impulse pulls.
+int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double tolerance, int& worst_group, int& worst_row) {
+  double worst = 0.0;
+  worst_group = worst_row = -1;
+  int pulling = 0;
+  auto candidate = [&](double how_bad, int m, int row) {
+    if (how_bad > worst) {
+      worst = how_bad;
+      worst_group = m;
+      worst_row = row;
+    }
+  };
+  for (int m = 0; m < n; ++m) {
+    ContactGroup& g = member(rows, m);
+    const int P = g.points, F = frictionRows(g);
+    double N = 0.0;
+    for (int k = 0; k < P; ++k) {
+      if (g.active[k] && g.trial[k] < 0.0) {
+        candidate(-g.trial[k] * g.W(k, k), m, k);
+        ++pulling;
+      }
+      else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
+      N += std::max(g.trial[k], 0.0);
+    }
+    const Vector3 scale = scaleOf(g);
+    Vector3 s = Vector3::Zero(), w = Vector3::Zero();
+    for (int f = 0; f < F; ++f) {
+      s[f] = g.trial[P + f] / scale[f];
+      w[f] = g.trial_u[P + f] * scale[f];
+    }
+    const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
+    if (g.resists) {  // the spin and rolling limits, as the friction's below
+      const double load = std::max(g.trial[0], 0.0);
+      const double spin = g.trial[3], spin_cap = g.spin_mu * load;
+      if (g.spin_mu > 0.0) {
+        if (!g.spin_sliding && std::abs(spin) > spin_cap * (1.0 + 1e-9) + 1e-15)
+          candidate((std::abs(spin) - spin_cap) * g.W(3, 3) + tolerance, m, 3);
+        else if (g.spin_sliding && spin * g.trial_u[3] > tolerance * std::abs(spin))
+          candidate(spin * g.trial_u[3] / std::abs(spin), m, 3);
+      }
+      const Eigen::Vector2d roll = g.trial.segment<2>(4), turn = g.trial_u.segment<2>(4);
+      const double roll_cap = g.roll_mu * load;
+      if (g.roll_mu > 0.0) {
+        if (!g.roll_sliding && roll.norm() > roll_cap * (1.0 + 1e-9) + 1e-15)
+          candidate((roll.norm() - roll_cap) / g.roll_step + tolerance, m, 4);
+        else if (g.roll_sliding && roll.dot(turn) > tolerance * roll.norm())
+          candidate(roll.dot(turn) / roll.norm(), m, 4);
       }
     }
-    for (const int t : {g.tree_a, g.tree_b})  // unstamp for the next pass
-      if (t >= 0)
-        for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
-  };
+    if (!(g.mu > 0.0)) continue;  // frictionless: its friction is zero, no condition
+    if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
+      candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
+    } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {
+      candidate(s.dot(w) / s.norm(), m, P);  // slipping along its friction: it sticks instead
+    }
+  }
+  return pulling;
+}
+
+bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) {
+  constexpr int kRounds = 24;
+  auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
   // The sweeps' guess.
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
@@ -258,7 +366,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
             }
           };
           add(g.W, g);
-          forEachCoupled(m, add);
+          forEachCoupled(rows, m, add);
           for (int r = 0; r < g.rows; ++r)
             if (g.unknown[r] >= 0) rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
         }
@@ -305,71 +413,16 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       for (int r = g.points; r < g.rows; ++r)
         g.trial[r] = g.unknown[r] >= 0 ? x_[g.unknown[r]] : (slidingRow(g, r) ? g.slide[r] * N : 0.0);
     }
-    for (int m = 0; m < n; ++m) rows.add(group(m), group(m).trial, group(m).rows, zt_);
-    for (int m = 0; m < n; ++m) {
-      ContactGroup& g = group(m);
-      g.trial_u = g.b + rows.velocity(g, zt_, g.rows);
-    }
-    for (int m = 0; m < n; ++m) rows.clear(group(m), zt_);
+    trialVelocities(rows, n);
     // Check every condition; change the guess of the one that breaks worst (one change a round:
-    // changing every broken one at once can cycle, a pull freed here re-crossing there), measured as
-    // a velocity: a pull by what its impulse would move its point, a crossing by its speed, a friction
-    // outside its cone by how far outside, one slipping along itself by its slip.
-    double worst = 0.0;
+    // changing every broken one at once can cycle, a pull freed here re-crossing there).
     int worst_group = -1, worst_row = -1;
-    int pulling = 0;  // touching normals whose impulse pulls
-    auto candidate = [&](double how_bad, int m, int row) {
-      if (how_bad > worst) {
-        worst = how_bad;
-        worst_group = m;
-        worst_row = row;
-      }
-    };
-    for (int m = 0; m < n; ++m) {
-      ContactGroup& g = group(m);
-      const int P = g.points, F = frictionRows(g);
-      double N = 0.0;
-      for (int k = 0; k < P; ++k) {
-        if (g.active[k] && g.trial[k] < 0.0) {
-          candidate(-g.trial[k] * g.W(k, k), m, k);
-          ++pulling;
-        }
-        else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
-        N += std::max(g.trial[k], 0.0);
-      }
-      const Vector3 scale = scaleOf(g);
-      Vector3 s = Vector3::Zero(), w = Vector3::Zero();
-      for (int f = 0; f < F; ++f) {
-        s[f] = g.trial[P + f] / scale[f];
-        w[f] = g.trial_u[P + f] * scale[f];
-      }
-      const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
-      if (g.resists) {  // the spin and rolling limits, as the friction's below
-        const double load = std::max(g.trial[0], 0.0);
-        const double spin = g.trial[3], spin_cap = g.spin_mu * load;
-        if (g.spin_mu > 0.0) {
-          if (!g.spin_sliding && std::abs(spin) > spin_cap * (1.0 + 1e-9) + 1e-15)
-            candidate((std::abs(spin) - spin_cap) * g.W(3, 3) + tolerance, m, 3);
-          else if (g.spin_sliding && spin * g.trial_u[3] > tolerance * std::abs(spin))
-            candidate(spin * g.trial_u[3] / std::abs(spin), m, 3);
-        }
-        const Eigen::Vector2d roll = g.trial.segment<2>(4), turn = g.trial_u.segment<2>(4);
-        const double roll_cap = g.roll_mu * load;
-        if (g.roll_mu > 0.0) {
-          if (!g.roll_sliding && roll.norm() > roll_cap * (1.0 + 1e-9) + 1e-15)
-            candidate((roll.norm() - roll_cap) / g.roll_step + tolerance, m, 4);
-          else if (g.roll_sliding && roll.dot(turn) > tolerance * roll.norm())
-            candidate(roll.dot(turn) / roll.norm(), m, 4);
-        }
-      }
-      if (!(g.mu > 0.0)) continue;  // frictionless: its friction is zero, no condition
-      if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
-        candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
-      } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {
-        candidate(s.dot(w) / s.norm(), m, P);  // slipping along its friction: it sticks instead
-      }
-    }
+    const int pulling = brokenConditions(rows, n, tolerance, worst_group, worst_row);
     if (worst_group < 0) {
+      // A slipping friction kept along the direction the sweeps guessed: turned against the slip the
+      // answer gives, where that holds every condition (else the answer as it is, counted).
+      if (!turnSlips(rows, n, tolerance)) ++slips_unturned_;
+      slip_angle_ = std::max(slip_angle_, slipMisalignment(rows, n, tolerance));
       for (int m = 0; m < n; ++m) group(m).lambda = group(m).trial;
       return true;
     }
@@ -407,6 +460,205 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     }
   }
   return false;
+}
+
+// The largest angle between a slipping friction of the trial and the reverse of its slip (a slip
+// within the tolerance is none: the friction may point anywhere on the cone's edge).
+double ContactActiveSet::slipMisalignment(ContactRows& rows, int n, double tolerance) {
+  double worst = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = member(rows, m);
+    if (!g.sliding) continue;
+    Vector3 s, w;
+    scaledFriction(g, s, w);
+    if (!(s.norm() > 0.0) || !(w.norm() > tolerance)) continue;
+    const double chord = (s.normalized() + w.normalized()).norm();  // 2 sin(angle / 2)
+    worst = std::max(worst, 2.0 * std::asin(std::min(1.0, 0.5 * chord)));
+  }
+  return worst;
+}
+
+// Newton's method on the island's tight rows with each slipping friction's rows as unknowns too. The
+// round's answer keeps a slipping friction along the direction the sweeps guessed, which need not be
+// against the slip that answer gives (up to 90 degrees off). With s the friction and w its slip in
+// the scaled coordinates (where a patch's ellipsoid is a ball), s |w| + mu N w = 0 puts it against
+// the slip on the cone's edge. From the round's answer, at most kSteps steps, each halved while it
+// does not lower the residual. \return the friction was already against its slip, or the turned
+// answer meets every condition (it is then the trial); else the trial is left as it was.
+bool ContactActiveSet::turnSlips(ContactRows& rows, int n, double tolerance) {
+  constexpr int kSteps = 20, kHalvings = 12;
+  constexpr double kAgainst = 1e-9;  // rad: against the slip
+  auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
+  if (slipMisalignment(rows, n, tolerance) <= kAgainst) return true;
+  // Unknowns: the round's tight rows (their indices kept), then each slipping friction's rows.
+  int tight = 0;
+  for (int m = 0; m < n; ++m)
+    for (int r = 0; r < group(m).rows; ++r) tight = std::max(tight, group(m).unknown[r] + 1);
+  int nx = tight;
+  for (int m = 0; m < n; ++m) {
+    ContactGroup& g = group(m);
+    if (g.sliding)
+      for (int f = 0; f < frictionRows(g); ++f) g.unknown[g.points + f] = nx++;
+  }
+  auto isSlipRow = [&](const ContactGroup& g, int r) { return g.sliding && r >= g.points && r < g.points + frictionRows(g); };
+  auto restore = [&](bool keep_trial) {
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      for (int r = g.points; r < g.rows; ++r)
+        if (isSlipRow(g, r)) g.unknown[r] = -1;
+      if (!keep_trial) g.trial = backup_[static_cast<size_t>(m)];
+    }
+    if (!keep_trial) trialVelocities(rows, n);
+  };
+  for (int m = 0; m < n; ++m) backup_[static_cast<size_t>(m)] = group(m).trial;
+  if (nx > kPolishRows) {
+    restore(false);
+    return false;
+  }
+  // y: the unknowns (a slipping friction's in scaled coordinates); the trial from it.
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = group(m);
+    const Vector3 scale = scaleOf(g);
+    for (int r = 0; r < g.rows; ++r)
+      if (g.unknown[r] >= 0) y_[g.unknown[r]] = isSlipRow(g, r) ? g.trial[r] / scale[r - g.points] : g.trial[r];
+  }
+  auto setTrial = [&](const VectorX& y) {
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      const Vector3 scale = scaleOf(g);
+      g.trial.setZero();
+      double N = 0.0;
+      for (int k = 0; k < g.points; ++k)
+        if (g.unknown[k] >= 0) N += g.trial[k] = y[g.unknown[k]];
+      for (int r = g.points; r < g.rows; ++r) {
+        if (g.unknown[r] >= 0) g.trial[r] = isSlipRow(g, r) ? y[g.unknown[r]] * scale[r - g.points] : y[g.unknown[r]];
+        else if (slidingRow(g, r)) g.trial[r] = g.slide[r] * N;  // a resisting point's spin or rolling
+      }
+    }
+    trialVelocities(rows, n);
+  };
+  // The residual: the tight rows' velocities less their targets; a slipping friction's
+  // s |w| + mu N w, over mu N (a velocity, as theirs). \return its squared norm; largest tight one in *tight_residual.
+  auto residual = [&](VectorX& G, double* tight_residual) {
+    double sum = 0.0, largest = 0.0;
+    for (int m = 0; m < n; ++m) {
+      const ContactGroup& g = group(m);
+      const int P = g.points, F = frictionRows(g);
+      for (int r = 0; r < g.rows; ++r) {
+        const int i = g.unknown[r];
+        if (i < 0 || isSlipRow(g, r)) continue;
+        G[i] = g.trial_u[r] - (r < P ? g.target[r] : 0.0);
+        largest = std::max(largest, std::abs(G[i]));
+        sum += G[i] * G[i];
+      }
+      if (!g.sliding) continue;
+      Vector3 s, w;
+      scaledFriction(g, s, w);
+      const double muN = g.mu * tightLoad(g);
+      for (int f = 0; f < F; ++f) {
+        const int i = g.unknown[P + f];
+        G[i] = s[f] * w.norm() + muN * w[f];
+        const double e = muN > 0.0 ? G[i] / muN : G[i];
+        sum += e * e;
+      }
+    }
+    *tight_residual = largest;
+    return sum;
+  };
+  double tight_residual = 0.0;
+  setTrial(y_);
+  double merit = residual(rhs_, &tight_residual);
+  bool converged = false;
+  for (int step = 0;; ++step) {
+    if (tight_residual <= tolerance && slipMisalignment(rows, n, tolerance) <= kAgainst) {
+      converged = true;
+      break;
+    }
+    if (step == kSteps) break;
+    // The Jacobian, member by member: each unknown row's velocity against every unknown (V), then
+    // the rows' own equations from it.
+    auto J = M_.topLeftCorner(nx, nx);
+    J.setZero();
+    double big = 0.0;
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      const int P = g.points, F = frictionRows(g);
+      auto V = V_.topLeftCorner(g.rows, nx);
+      V.setZero();
+      auto add = [&](const ContactBlock& W, const ContactGroup& h) {
+        const Vector3 hs = scaleOf(h);
+        for (int r = 0; r < g.rows; ++r) {
+          if (g.unknown[r] < 0) continue;
+          for (int c = 0; c < h.rows; ++c) {
+            if (h.unknown[c] >= 0) {
+              V(r, h.unknown[c]) += W(r, c) * (isSlipRow(h, c) ? hs[c - h.points] : 1.0);
+            } else if (c >= h.points && slidingRow(h, c) && h.slide[c] != 0.0) {
+              for (int k = 0; k < h.points; ++k)
+                if (h.unknown[k] >= 0) V(r, h.unknown[k]) += W(r, c) * h.slide[c];
+            }
+          }
+        }
+      };
+      add(g.W, g);
+      forEachCoupled(rows, m, add);
+      for (int r = 0; r < g.rows; ++r) {
+        const int i = g.unknown[r];
+        if (i < 0 || isSlipRow(g, r)) continue;
+        J.row(i) = V.row(r);
+        if (r < (g.resists ? 3 : g.rows)) big = std::max(big, std::abs(V(r, i)));
+      }
+      if (!g.sliding) continue;
+      const Vector3 scale = scaleOf(g);
+      const double N = tightLoad(g);
+      Vector3 s, w;
+      scaledFriction(g, s, w);
+      const double speed = w.norm();
+      if (!(speed > tolerance)) {  // its slip has gone: it sticks, not for this solve
+        restore(false);
+        return false;
+      }
+      for (int f = 0; f < F; ++f) {
+        const int i = g.unknown[P + f];
+        for (int j = 0; j < F; ++j) J.row(i) += (s[f] * w[j] / speed * scale[j]) * V.row(P + j);
+        J.row(i) += (g.mu * N * scale[f]) * V.row(P + f);
+        J(i, i) += speed;
+        for (int k = 0; k < P; ++k)
+          if (g.unknown[k] >= 0) J(i, g.unknown[k]) += g.mu * w[f];
+      }
+    }
+    for (int m = 0; m < n; ++m)  // the round's regularisation of the tight rows (redundant normals)
+      for (int r = 0; r < group(m).rows; ++r)
+        if (group(m).unknown[r] >= 0 && !isSlipRow(group(m), r))
+          J(group(m).unknown[r], group(m).unknown[r]) += 1e-12 * big + 1e-300;
+    x_.head(nx) = -rhs_.head(nx);
+    if (!luSolve(nx) || !x_.head(nx).allFinite()) {
+      restore(false);
+      return false;
+    }
+    // The step, halved until it lowers the residual.
+    bool lowered = false;
+    double t = 1.0;
+    for (int h = 0; h < kHalvings && !lowered; ++h, t *= 0.5) {
+      y_try_.head(nx) = y_.head(nx) + t * x_.head(nx);
+      setTrial(y_try_);
+      double tried_tight = 0.0;
+      const double tried = residual(rhs_, &tried_tight);
+      if (tried < merit) {
+        lowered = true;
+        merit = tried;
+        tight_residual = tried_tight;
+        y_.head(nx) = y_try_.head(nx);
+      }
+    }
+    if (!lowered) break;
+  }
+  if (converged) {
+    int worst_group = -1, worst_row = -1;
+    brokenConditions(rows, n, tolerance, worst_group, worst_row);
+    converged = worst_group < 0;
+  }
+  restore(converged);
+  return converged;
 }
 
 }  // namespace igms

@@ -27,10 +27,22 @@ class ContactActiveSet {
   // Symmetric systems whose Cholesky failed (redundant rows at round-off's mercy) and went to LU, since
   // the start.
   int64_t factorFallbacks() const { return factor_fallbacks_; }
+  // The last polish's islands whose slipping frictions it could not turn against their slip (their
+  // answer kept as the sweeps' directions gave it), and the largest angle it left between a slipping
+  // friction and the reverse of its slip (rad).
+  int slipsUnturned() const { return slips_unturned_; }
+  double slipAngle() const { return slip_angle_; }
 
  private:
   bool polishIsland(ContactRows& rows, int n, double tolerance);  // members_[0 .. n): one island
   bool luSolve(int nx);
+  ContactGroup& member(ContactRows& rows, int m) { return rows.group(members_[static_cast<size_t>(m)]); }
+  template <typename Visit>
+  void forEachCoupled(ContactRows& rows, int m, Visit&& visit);
+  void trialVelocities(ContactRows& rows, int n);
+  int brokenConditions(ContactRows& rows, int n, double tolerance, int& worst_group, int& worst_row);
+  double slipMisalignment(ContactRows& rows, int n, double tolerance);
+  bool turnSlips(ContactRows& rows, int n, double tolerance);
   std::vector<int> island_, queue_, members_, stamp_;
   // One round's dense system (its top-left nx x nx of kPolishRows square, allocated once), right side
   // and solution.
@@ -38,6 +50,13 @@ class ContactActiveSet {
   VectorX rhs_, x_;
   std::vector<int> pivot_;
   VectorX zt_;  // the trial impulses' accumulator
+  // turnSlips(): its unknowns and a tried step, one member's rows' velocities against every unknown,
+  // and the members' trials to go back to.
+  VectorX y_, y_try_;
+  MatrixX V_;
+  std::vector<ContactRowVector> backup_;
+  int slips_unturned_ = 0;     // the last polish's islands whose slips could not be turned
+  double slip_angle_ = 0.0;    // the last polish's largest angle between a slipping friction and -slip
   ContactBlock W_;
   int rounds_ = 0;
   int64_t factor_fallbacks_ = 0;

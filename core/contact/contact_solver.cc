@@ -153,6 +153,8 @@ bool ContactSolver::solveImpulses() {
     if (!converged) {
       const bool exact = active_.polish(rows_, z_, settings_.tolerance);
       stats_.polish_rounds += active_.rounds();
+      stats_.slips_unturned += active_.slipsUnturned();
+      stats_.slip_angle = std::max(stats_.slip_angle, active_.slipAngle());
       if (exact) {
         converged = true;  // every condition checked, to the tolerance
         stats_.residual = 0.0;
@@ -283,6 +285,7 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   v_free_ = v;
   stats_.iterations = 0;
   stats_.polish_rounds = 0;
+  stats_.slip_angle = 0.0;
   restitution_scale_ = 1.0;
   bool bounces = false;
   for (int g = 0; g < ng && !bounces; ++g)

@@ -42,6 +42,7 @@ struct Tally {
   int max_sweeps = 0;
   double max_residual = 0.0;
   int64_t polish_rounds = 0;
+  double max_slip_angle = 0.0;
   double max_robot_force = 0.0;
   int64_t steps_with_several_hands = 0;
   std::vector<Interaction> interactions;            // in order of start (reserved: a push or pull is rare)
@@ -164,6 +165,8 @@ class PySimulation {
     solve.restitution_scaled = s.restitution_scaled;
     solve.energy_capped = s.energy_capped;
     solve.position_unconverged = s.position_unconverged;
+    solve.slips_unturned = s.slips_unturned;
+    solve.max_slip_angle = tally_.max_slip_angle;
     d["contact_solve"] = solveFigures(solve);
     nb::dict poses;
     const Model& model = sim_.model();
@@ -251,6 +254,7 @@ class PySimulation {
       tally_.max_sweeps = std::max(tally_.max_sweeps, sim_.contactStats().iterations);
       tally_.max_residual = std::max(tally_.max_residual, sim_.contactStats().residual);
       tally_.polish_rounds += sim_.contactStats().polish_rounds;
+      tally_.max_slip_angle = std::max(tally_.max_slip_angle, sim_.contactStats().slip_angle);
     }
     const StepOutcome& o = sim_.outcome();
     tally_.max_robot_force = std::max(tally_.max_robot_force, o.force_on_robot.norm());

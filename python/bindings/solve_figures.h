@@ -19,6 +19,8 @@ inline nanobind::dict solveFigures(const ScenarioSolveStats& s) {
   d["restitution_scaled"] = s.restitution_scaled;
   d["energy_capped"] = s.energy_capped;
   d["position_unconverged"] = s.position_unconverged;
+  d["slips_unturned"] = s.slips_unturned;
+  d["max_slip_angle"] = s.max_slip_angle;
   return d;
 }
 

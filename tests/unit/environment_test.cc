@@ -221,6 +221,19 @@ TEST(Environment, TheStepAllocatesNothingWithContact) {
   }
 }
 
+TEST(Environment, TheStepAllocatesNothingWhileSlipsAreTurned) {
+  // puma_table's arm shoving its boxes for 8 s: thousands of active-set answers whose slipping
+  // friction Newton's method turns against its slip (contact_active_set.h), a few it cannot.
+  Simulation sim(shipped("puma_table.yaml"));
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+  const int64_t unturned = sim.contactStats().slips_unturned;
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 7980; ++k) sim.step(nullptr);
+  });
+  EXPECT_EQ(n, 0u);
+  EXPECT_GT(sim.contactStats().slips_unturned, unturned) << "an answer kept its slip unturned within the steps";
+}
+
 TEST(Environment, TheStepAllocatesNothingThroughChainedImpactsAndResistance) {
   // Three balls on a floor, the first rolling into the others at 0.1 m/s (its blow passed along the
   // row, contact_impacts.h), each with rolling and torsional resistance (three more rows a point).

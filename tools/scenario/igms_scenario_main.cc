@@ -40,7 +40,9 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                         {"energy_capped", r.solve.energy_capped},
                         {"position_unconverged", r.solve.position_unconverged},
                         {"near_rebuilds", r.solve.near_rebuilds},
-                        {"candidates_dropped", r.solve.candidates_dropped}}},
+                        {"candidates_dropped", r.solve.candidates_dropped},
+                        {"slips_unturned", r.solve.slips_unturned},
+                        {"max_slip_angle", r.solve.max_slip_angle}}},
                       {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};
   // Each free body's final pose: [x, y, z, qw, qx, qy, qz].

@@ -102,12 +102,14 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
       ++out.solve.solves;
       out.solve.max_sweeps = std::max(out.solve.max_sweeps, s.solver_sweeps);
       out.solve.polish_rounds += solve.polish_rounds;
+      out.solve.max_slip_angle = std::max(out.solve.max_slip_angle, solve.slip_angle);
       out.solve.max_residual = std::max(out.solve.max_residual, s.solver_residual);
     }
     out.solve.unconverged = solve.unconverged;
     out.solve.warm_dropped = solve.warm_dropped;
     out.solve.restitution_scaled = solve.restitution_scaled;
     out.solve.energy_capped = solve.energy_capped;
+    out.solve.slips_unturned = solve.slips_unturned;
     out.solve.position_unconverged = solve.position_unconverged;
     if (const ContactDetection* d = sim.contactDetection()) {
       out.solve.near_rebuilds = d->nearRebuilds();
