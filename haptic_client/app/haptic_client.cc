@@ -75,9 +75,9 @@ void printSummary(const ServoStats& s, double wall) {
   if (s.local_runs.load() > 0)
     std::fprintf(stderr,
                  "igms-haptic: local model: %lld cycles estimated by it (%lld carried on after a solve at its sweep "
-                 "limit), deepest overlap in its estimate %.3f mm\n",
+                 "limit, %lld at its compute budget), deepest overlap in its estimate %.3f mm\n",
                  static_cast<long long>(s.local_runs.load()), static_cast<long long>(s.local_cut_short.load()),
-                 s.local_max_penetration.load() * 1e3);
+                 static_cast<long long>(s.local_over_budget.load()), s.local_max_penetration.load() * 1e3);
   const int64_t over = s.rtt_all.overflow() + s.jitter_all.overflow() + s.age_all.overflow();
   if (over)
     std::fprintf(stderr,

@@ -7,8 +7,8 @@
 
 namespace igms {
 
-LocalModel::LocalModel(const ResolvedScene& scene, int max_steps)
-    : sim_(scene), max_steps_(max_steps),
+LocalModel::LocalModel(const ResolvedScene& scene, int max_steps, double budget_us)
+    : sim_(scene), max_steps_(max_steps), budget_us_(budget_us),
       environment_(std::any_of(scene.model->parts.begin(), scene.model->parts.end(),
                                [](const ModelPart& p) { return p.free_body; })),
       q_(VectorX::Zero(scene.model->nq)), v_(VectorX::Zero(scene.model->nv)),
@@ -37,8 +37,10 @@ void LocalModel::kinematicStep(double h) {
 
 bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t from, int64_t to,
                      std::vector<SE3>& links, std::vector<Motion>* velocities) {
+  const auto started = std::chrono::steady_clock::now();
   last_steps_ = 0;
   last_cut_short_ = false;
+  last_over_budget_ = false;
   // The first step taken by the model: with free bodies, the first input kept (bodies and contacts
   // throughout); else the first that interacts.
   const int64_t oldest = std::max(from + 1, to - SentInputs::kCapacity + 1);
@@ -64,6 +66,13 @@ bool LocalModel::run(const RobotSample& state, const SentInputs& inputs, int64_t
     if (sim_.contactStats().unconverged > unconverged && s < to && last_steps_ + 1 < max_steps_) {
       last_cut_short_ = true;
       ++cut_short_;
+      ++s, ++last_steps_;
+      break;
+    }
+    if (budget_us_ > 0.0 && s < to && last_steps_ + 1 < max_steps_ &&
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started).count() > budget_us_) {
+      last_over_budget_ = true;
+      ++over_budget_;
       ++s, ++last_steps_;
       break;
     }

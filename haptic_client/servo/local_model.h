@@ -41,7 +41,10 @@ class SentInputs {
 
 class LocalModel {
  public:
-  LocalModel(const ResolvedScene& scene, int max_steps);
+  // budget_us > 0: a run stops stepping once it has taken that long (s of compute, checked after each
+  // step) and carries the rest kinematically, so a stretch of dear steps (a solve at its sweep limit, a
+  // slipping friction turned by Newton's method) costs the servo loop at most the budget and one step.
+  LocalModel(const ResolvedScene& scene, int max_steps, double budget_us = 0.0);
   // How many of this scene's steps fit in budget_us, timed here (5 to 200).
   static int stepsWithin(const ResolvedScene& scene, double budget_us);
 
@@ -62,18 +65,24 @@ class LocalModel {
   // The deepest overlap of two things in contact at the start of any step this model took (m): how far
   // its estimate put a body inside another.
   double maxPenetration() const { return max_penetration_; }
+  // Whether the last run stopped at its time budget, and how many runs did, since construction.
+  bool lastOverBudget() const { return last_over_budget_; }
+  int64_t overBudget() const { return over_budget_; }
 
  private:
   void kinematicStep(double h);
 
   Simulation sim_;
   const int max_steps_;
+  const double budget_us_;
   const bool environment_;  // free bodies: every stretch is stepped
   double max_penetration_ = 0.0;
   VectorX q_, v_, qdd_, q_next_, v_mid_;
   int last_steps_ = 0;
   bool last_cut_short_ = false;
   int64_t cut_short_ = 0;
+  bool last_over_budget_ = false;
+  int64_t over_budget_ = 0;
 };
 
 }  // namespace igms

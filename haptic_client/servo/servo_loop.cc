@@ -23,7 +23,8 @@ ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus
   msg_.client_id = config.client_id;
   msg_.tip_radius = scene.scene.push.tip_radius;
   if (estimate.policy() == FallbackPolicy::Predict)
-    local_ = std::make_unique<LocalModel>(scene, LocalModel::stepsWithin(scene, config.local_budget_us));
+    local_ = std::make_unique<LocalModel>(scene, LocalModel::stepsWithin(scene, config.local_budget_us),
+                                          config.local_budget_us);
 }
 
 double ServoLoop::run(const std::atomic<bool>& stop) {
@@ -160,6 +161,7 @@ double ServoLoop::estimateRobot(int64_t k, double age, bool on_time) {
     stats_.local_runs.fetch_add(1, std::memory_order_relaxed);
     stats_.local_max_penetration = local_->maxPenetration();
     stats_.local_cut_short = local_->cutShort();
+    stats_.local_over_budget = local_->overBudget();
     if (!on_time) ++stats_.fallbacks;
     return horizon;
   }

@@ -119,6 +119,7 @@ struct ServoStats {
   std::atomic<int64_t> local_runs{0};
   std::atomic<double> local_max_penetration{0};
   std::atomic<int64_t> local_cut_short{0};  // runs stopped after a step whose solve hit its sweep limit
+  std::atomic<int64_t> local_over_budget{0};  // runs stopped at the local model's compute budget
   std::atomic<bool> lost{false}, device_lost{false}, finished{false};
   SampleRing jitter, rtt, age_us;
   Histogram rtt_all{10.0};  // 10 us bins: round trips up to 200 ms

@@ -5,6 +5,7 @@
 // energy balance it keeps, on a port that hands out energy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/kinematics/forward_kinematics.h"
@@ -164,6 +165,39 @@ TEST(LocalModel, CarriesOnKinematicallyAfterASolveAtItsSweepLimit) {
   EXPECT_GT(full, 100) << "the fall: every step taken";
   EXPECT_GT(cut, 0) << "the landing";
   EXPECT_EQ(local.cutShort(), cut);
+}
+
+// A compute budget in time: a run stops stepping once it has taken that long and carries the rest
+// kinematically, whatever its steps cost (a step count timed at start cannot foresee a dear stretch).
+// A budget no step fits stops every run after its first step; a budget no run reaches never acts.
+TEST(LocalModel, StopsSteppingAtItsComputeBudget) {
+  const ResolvedScene scene = fallingBall("");
+  const int lead = 20, n = 100;
+  Simulation server(scene);
+  SentInputs inputs;
+  std::vector<RobotSample> states;
+  runServer(scene, n + lead, inputs, states, server);
+  ASSERT_FALSE(::testing::Test::HasFatalFailure());
+  LocalModel tight(scene, 200, 1e-6), ample(scene, 200, 1e9);
+  std::vector<SE3> links(scene.model->frames.size()), full(scene.model->frames.size());
+  double carried = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const RobotSample& at = states[static_cast<size_t>(k)];
+    ASSERT_TRUE(tight.run(at, inputs, at.input_seq, at.input_seq + lead, links));
+    EXPECT_TRUE(tight.lastOverBudget());
+    EXPECT_EQ(tight.lastSteps(), 1) << "the first step, then the budget";
+    ASSERT_TRUE(ample.run(at, inputs, at.input_seq, at.input_seq + lead, full));
+    EXPECT_FALSE(ample.lastOverBudget());
+    EXPECT_EQ(ample.lastSteps(), lead);
+    carried = std::max(carried, test::worstLinkError(links, full));
+  }
+  std::printf("a 1e-6 us budget: %lld of %d runs stopped after one step, the rest carried (%.2e m off the stepped "
+              "estimate); a 1e9 us budget: %lld\n",
+              static_cast<long long>(tight.overBudget()), n, carried, static_cast<long long>(ample.overBudget()));
+  EXPECT_EQ(tight.overBudget(), n);
+  EXPECT_EQ(ample.overBudget(), 0);
+  EXPECT_GT(carried, 0.0) << "the carry is not the step";
+  EXPECT_LT(carried, 0.01) << "the fall carried kinematically stays close to the fall stepped";
 }
 
 // The servo loop's side: re-basing, the steps and the prediction allocate nothing.
