@@ -31,6 +31,9 @@ class ContactActiveSet {
   // answer kept as the sweeps' directions gave it), and the largest angle it left between a slipping
   // friction and the reverse of its slip (rad).
   int slipsUnturned() const { return slips_unturned_; }
+  // The last polish's islands whose guess came back to the one of two rounds before (a cycle: it would
+  // take the same two turns to the round limit but for the rules that break it).
+  int cycles() const { return cycles_; }
   double slipAngle() const { return slip_angle_; }
 
  private:
@@ -43,7 +46,9 @@ class ContactActiveSet {
   int brokenConditions(ContactRows& rows, int n, double tolerance, int& worst_group, int& worst_row);
   double slipMisalignment(ContactRows& rows, int n, double tolerance);
   bool turnSlips(ContactRows& rows, int n, double tolerance);
+  uint64_t guessKey(ContactRows& rows, int n);
   std::vector<int> island_, queue_, members_, stamp_;
+  std::vector<int> restuck_;  // per member: times its friction went back from slipping to sticking in this polish
   // One round's dense system (its top-left nx x nx of kPolishRows square, allocated once), right side
   // and solution.
   MatrixX M_;
@@ -59,6 +64,7 @@ class ContactActiveSet {
   double slip_angle_ = 0.0;    // the last polish's largest angle between a slipping friction and -slip
   ContactBlock W_;
   int rounds_ = 0;
+  int cycles_ = 0;
   int64_t factor_fallbacks_ = 0;
   // One island's couplings, formed once per solve: member m's are cache_block_[first .. first + count).
   static constexpr int kCachedCouplings = 2048;

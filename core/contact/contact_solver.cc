@@ -154,6 +154,7 @@ bool ContactSolver::solveImpulses() {
       const bool exact = active_.polish(rows_, z_, settings_.tolerance);
       stats_.polish_rounds += active_.rounds();
       stats_.slips_unturned += active_.slipsUnturned();
+      stats_.polish_cycles += active_.cycles();
       stats_.slip_angle = std::max(stats_.slip_angle, active_.slipAngle());
       if (exact) {
         converged = true;  // every condition checked, to the tolerance

@@ -166,6 +166,7 @@ class PySimulation {
     solve.energy_capped = s.energy_capped;
     solve.position_unconverged = s.position_unconverged;
     solve.slips_unturned = s.slips_unturned;
+    solve.polish_cycles = s.polish_cycles;
     solve.max_slip_angle = tally_.max_slip_angle;
     d["contact_solve"] = solveFigures(solve);
     nb::dict poses;

@@ -20,6 +20,7 @@ inline nanobind::dict solveFigures(const ScenarioSolveStats& s) {
   d["energy_capped"] = s.energy_capped;
   d["position_unconverged"] = s.position_unconverged;
   d["slips_unturned"] = s.slips_unturned;
+  d["polish_cycles"] = s.polish_cycles;
   d["max_slip_angle"] = s.max_slip_angle;
   return d;
 }

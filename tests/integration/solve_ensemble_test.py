@@ -29,16 +29,22 @@ def main():
     one = rows(build, 1)
     if len(one) != len(CASES):
         failures.append(f"{len(CASES)} scenes, not {len(one)}")
-    for (scene, device, total, median, largest, worst, dense, position), (_, script, seconds) in zip(one, CASES):
+    for (scene, device, total, median, largest, worst, dense, position, cycles, deepest, median_deepest), (_, script, seconds) \
+            in zip(one, CASES):
         cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene), "--seconds", str(seconds)]
         if script:
             cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", script)]
-        solve = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)["contact_solve"]
+        result = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+        solve, depth = result["contact_solve"], 1e3 * result["max_penetration"]
         same = (int(total) == solve["unconverged"] == int(largest) and float(median) == solve["unconverged"]
-                and int(dense) == solve["polish_rounds"] and int(position) == solve["position_unconverged"] and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"])
+                and int(dense) == solve["polish_rounds"] and int(position) == solve["position_unconverged"]
+                and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"]
+                and int(cycles) == solve["polish_cycles"]
+                and abs(float(deepest) - depth) <= 5e-4 and float(deepest) == float(median_deepest))
         print(f"{'ok  ' if same else 'FAIL'} {scene} {device}: {total} unconverged, {dense} dense solves, {position} "
-              f"position corrections unconverged (igms-scenario on the scene: {solve['unconverged']}, "
-              f"{solve['polish_rounds']}, {solve['position_unconverged']})")
+              f"position corrections unconverged, {cycles} cycles, {deepest} mm deepest (igms-scenario on the scene: "
+              f"{solve['unconverged']}, {solve['polish_rounds']}, {solve['position_unconverged']}, {solve['polish_cycles']}, "
+              f"{depth:.4f} mm)")
         if not same:
             failures.append(f"{scene} {device}")
     two = rows(build, 2)

@@ -76,6 +76,7 @@ def test_contacts_hold_the_weight():
     assert s["max_contacts"] == 4 and s["contact_solve"]["solves"] == 200 and s["contact_solve"]["unconverged"] == 0
     # nothing slips on a resting box: no friction to turn against a slip
     assert s["contact_solve"]["slips_unturned"] == 0 and s["contact_solve"]["max_slip_angle"] == 0.0
+    assert s["contact_solve"]["polish_cycles"] == 0
     np.testing.assert_array_equal(s["bodies"]["box"]["end"], sim.q)
     np.testing.assert_array_equal(s["bodies"]["box"]["start"], [0, 0, 0.1, 1, 0, 0, 0])
 

@@ -42,6 +42,7 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                         {"near_rebuilds", r.solve.near_rebuilds},
                         {"candidates_dropped", r.solve.candidates_dropped},
                         {"slips_unturned", r.solve.slips_unturned},
+                        {"polish_cycles", r.solve.polish_cycles},
                         {"max_slip_angle", r.solve.max_slip_angle}}},
                       {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};

@@ -110,6 +110,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     out.solve.restitution_scaled = solve.restitution_scaled;
     out.solve.energy_capped = solve.energy_capped;
     out.solve.slips_unturned = solve.slips_unturned;
+    out.solve.polish_cycles = solve.polish_cycles;
     out.solve.position_unconverged = solve.position_unconverged;
     if (const ContactDetection* d = sim.contactDetection()) {
       out.solve.near_rebuilds = d->nearRebuilds();

@@ -40,6 +40,7 @@ struct ScenarioSolveStats {
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit
   int64_t near_rebuilds = 0;        // the detection's broad phases (its list of near pairs rebuilt)
   int64_t candidates_dropped = 0;   // candidate pairs beyond the detection's buffers (contacts missed)
+  int64_t polish_cycles = 0;        // active-set islands whose guess came back to the one two rounds before
   int64_t slips_unturned = 0;       // active-set answers whose slipping friction kept the sweeps' direction
   double max_slip_angle = 0.0;      // rad, the largest angle an active-set answer left between a slipping
                                     // friction and the reverse of its slip
