@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-prediction-ms", o.max_prediction_ms, "predict at most this far ahead of a state")
       ->check(igms::cli::nonNegative("MS"));
   app.add_option("--local-budget-us", o.local_budget_us,
-                 "predict: the local model's compute per cycle while interacting (its steps are timed at start)")
+                 "predict: the local model's compute per cycle (its steps are timed at start to fit it, and a run stops "
+                 "stepping once it has taken it)")
       ->check(igms::cli::positive("US"));
   app.add_flag("--no-passivity", o.no_passivity,
                "turn the time-domain passivity controller off (its observer still reports the energy balance)");
