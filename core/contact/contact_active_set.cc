@@ -209,7 +209,7 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
   };
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = member(rows, m);
-    const int P = g.points, F = frictionRows(g);
+    const int P = g.points;
     double N = 0.0;
     for (int k = 0; k < P; ++k) {
       if (g.active[k] && g.trial[k] < 0.0) {
@@ -219,12 +219,8 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
       else if (!g.active[k] && g.trial_u[k] < g.target[k] - tolerance) candidate(g.target[k] - g.trial_u[k], m, k);
       N += std::max(g.trial[k], 0.0);
     }
-    const Vector3 scale = scaleOf(g);
-    Vector3 s = Vector3::Zero(), w = Vector3::Zero();
-    for (int f = 0; f < F; ++f) {
-      s[f] = g.trial[P + f] / scale[f];
-      w[f] = g.trial_u[P + f] * scale[f];
-    }
+    Vector3 s, w;
+    scaledFriction(g, s, w);
     const double cap = g.mu * (g.patch ? N : std::max(g.trial[0], 0.0));
     if (g.resists) {  // the spin and rolling limits, as the friction's below
       const double load = std::max(g.trial[0], 0.0);
@@ -492,8 +488,8 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       // not stuck again (stick and slip took turns to the round limit).
       const int P = g.points, F = frictionRows(g);
       const Vector3 scale = scaleOf(g);
-      Vector3 w = Vector3::Zero();
-      for (int f = 0; f < F; ++f) w[f] = g.trial_u[P + f] * scale[f];
+      Vector3 s, w;
+      scaledFriction(g, s, w);
       for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * w[f] / w.norm();
     } else {
       g.sliding = false;
