@@ -41,7 +41,7 @@ class SentInputs {
 
 class LocalModel {
  public:
-  // budget_us > 0: a run stops stepping once it has taken that long (s of compute, checked after each
+  // budget_us > 0: a run stops stepping once it has taken that long (µs of compute, checked after each
   // step) and carries the rest kinematically, so a stretch of dear steps (a solve at its sweep limit, a
   // slipping friction turned by Newton's method) costs the servo loop at most the budget and one step.
   LocalModel(const ResolvedScene& scene, int max_steps, double budget_us = 0.0);
