@@ -29,6 +29,28 @@ M regularisedInverse(const M& W) {
   return (W + eps * M::Identity()).inverse();
 }
 
+// z[dof[e]] += invD[e] X_k[e] d_k for N rows at once: each accumulator read and written once, the
+// rows' terms added in row order (as a row-by-row pass would: the same sums).
+template <int N>
+void addRows(const int* dof, const double* invD, const double* const* X, const double* d, int E, double* z) {
+  for (int e = 0; e < E; ++e) {
+    double t = z[dof[e]];
+    for (int k = 0; k < N; ++k) t += invD[e] * X[k][e] * d[k];
+    z[dof[e]] = t;
+  }
+}
+
+// u_r = sum_e X_r[e] z[dof[e]] for N rows at once, each sum in the dofs' order.
+template <int N>
+void rowVelocities(const int* dof, const double* X, const double* z, int E, double* u) {
+  double s[N] = {};
+  for (int e = 0; e < E; ++e) {
+    const double ze = z[dof[e]];
+    for (int k = 0; k < N; ++k) s[k] += X[k * E + e] * ze;
+  }
+  for (int k = 0; k < N; ++k) u[k] = s[k];
+}
+
 }  // namespace
 
 ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : model_(model), cm_(contacts) {
@@ -49,6 +71,7 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
   sign_.resize(static_cast<size_t>(max_entries_));
   up_.resize(static_cast<size_t>(max_entries_));
   link_.resize(static_cast<size_t>(max_entries_));
+  chain_from_.resize(static_cast<size_t>(max_entries_));
   link_value_.resize(static_cast<size_t>(max_entries_));
   groups_.resize(static_cast<size_t>(capacity));
   dof_.resize(static_cast<size_t>(capacity * max_entries_));
@@ -141,7 +164,17 @@ void ContactRows::frame(ContactGroup& g) const {
       v[n] = r.dot(g.t2);
       ++n;
     }
-    g.radius = patchTorsionRadius(u, v, n);
+    // A pair at rest has the same points step after step: the last radius, where they are the same
+    // to the bit (the function is pure: the same answer).
+    bool same = n == g.radius_points;
+    for (int k = 0; same && k < n; ++k) same = u[k] == g.radius_u[k] && v[k] == g.radius_v[k];
+    if (!same) {
+      g.radius_of = patchTorsionRadius(u, v, n);
+      g.radius_points = n;
+      std::copy(u, u + n, g.radius_u);
+      std::copy(v, v + n, g.radius_v);
+    }
+    g.radius = g.radius_of;
   }
   g.framed = true;
 }
@@ -265,12 +298,17 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
   // upward), found below it in the ascending list; from the last entry down, each passes its value up
   // its chain.
+  // Where an entry's chain is every entry just below it (a free body's six dofs, a leg on its base:
+  // the common case), from[e] is the chain's first entry and the update runs on contiguous values;
+  // -1 where it is not (two branches of one tree among the entries).
   int* const up = up_.data();
+  int* const from = chain_from_.data();
   for (int e = 0; e < g.entries; ++e) {
     const int parent = model_.dof_parent[dof_[static_cast<size_t>(g.first_entry + e)]];
     int a = e - 1;
     while (a >= 0 && dof_[static_cast<size_t>(g.first_entry + a)] != parent) --a;
     up[e] = parent < 0 ? -1 : a;
+    from[e] = up[e] < 0 ? e : (up[e] == e - 1 && from[e - 1] >= 0 ? from[e - 1] : -1);
   }
   std::copy(J_.begin() + g.first_value, J_.begin() + g.first_value + g.rows * g.entries, X_.begin() + g.first_value);
   // From the last entry down, each passes its value up its chain. A patch's many rows read each
@@ -282,7 +320,24 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   const int R = g.rows, E = g.entries;
   for (int e = E - 1; e >= 0; --e) {
     const double* const lk = LD.column(dof[e]);
-    if (R > kListRows) {
+    if (from[e] >= 0 && R <= kListRows) {  // its chain is the entries from[e] .. e - 1
+      for (int r = 0; r < R; ++r) {
+        double* const x = X + r * E;
+        const double xk = x[e];
+        if (xk == 0.0) continue;
+        for (int a = from[e]; a < e; ++a) x[a] -= lk[dof[a]] * xk;
+      }
+    } else if (from[e] >= 0) {  // the same, L's values read once for the rows
+      const int s = from[e];
+      double* const lval = link_value_.data();
+      for (int a = s; a < e; ++a) lval[a] = lk[dof[a]];
+      for (int r = 0; r < R; ++r) {
+        double* const x = X + r * E;
+        const double xk = x[e];
+        if (xk == 0.0) continue;
+        for (int a = s; a < e; ++a) x[a] -= lval[a] * xk;
+      }
+    } else if (R > kListRows) {
       int* const link = link_.data();
       double* const lval = link_value_.data();
       int n = 0;
@@ -305,12 +360,13 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
       }
     }
   }
-  for (int r = 0; r < g.rows; ++r)  // every entry any solve reads (its rows x rows): no zeroing
-    for (int s = r; s < g.rows; ++s) {
-      const double* const xr = X_.data() + g.first_value + r * g.entries;
-      const double* const xs = X_.data() + g.first_value + s * g.entries;
+  const double* const invD = invD_.data() + g.first_entry;
+  for (int r = 0; r < R; ++r)  // every entry any solve reads (its rows x rows): no zeroing
+    for (int s = r; s < R; ++s) {
+      const double* const xr = X + r * E;
+      const double* const xs = X + s * E;
       double w = 0.0;
-      for (int e = 0; e < g.entries; ++e) w += xr[e] * xs[e] * invD_[static_cast<size_t>(g.first_entry + e)];
+      for (int e = 0; e < E; ++e) w += xr[e] * xs[e] * invD[e];
       g.W(r, s) = g.W(s, r) = w;
     }
   if (g.patch) {
@@ -365,26 +421,38 @@ bool ContactRows::separating(const ContactGroup& g, const ContactSet& contacts, 
   return true;
 }
 
+// The sweeps' most frequent calls: the rows that change, up to three at once (a point's, a patch's
+// friction), in one pass over the dofs.
 void ContactRows::add(const ContactGroup& g, const ContactRowVector& delta, int rows, VectorX& z) const {
   const int* const dof = dof_.data() + g.first_entry;
   const double* const invD = invD_.data() + g.first_entry;
+  const int E = g.entries;
+  const double* X[3];
+  double d[3];
+  int n = 0;
   for (int r = 0; r < rows; ++r) {
-    const double d = delta[r];
-    if (d == 0.0) continue;
-    const double* const X = X_.data() + g.first_value + r * g.entries;
-    for (int e = 0; e < g.entries; ++e) z[dof[e]] += invD[e] * X[e] * d;
+    if (delta[r] == 0.0) continue;
+    if (n == 3) {  // more than three change: row by row from here
+      addRows<3>(dof, invD, X, d, E, z.data());
+      n = 0;
+    }
+    X[n] = X_.data() + g.first_value + r * E;
+    d[n++] = delta[r];
   }
+  if (n == 3) addRows<3>(dof, invD, X, d, E, z.data());
+  if (n == 2) addRows<2>(dof, invD, X, d, E, z.data());
+  if (n == 1) addRows<1>(dof, invD, X, d, E, z.data());
 }
 
 ContactRowVector ContactRows::velocity(const ContactGroup& g, const VectorX& z, int rows) const {
   ContactRowVector u = ContactRowVector::Zero();
   const int* const dof = dof_.data() + g.first_entry;
-  for (int r = 0; r < rows; ++r) {
-    const double* const X = X_.data() + g.first_value + r * g.entries;
-    double s = 0.0;
-    for (int e = 0; e < g.entries; ++e) s += X[e] * z[dof[e]];
-    u[r] = s;
-  }
+  const double* const X = X_.data() + g.first_value;
+  const int E = g.entries;
+  int r = 0;
+  for (; r + 3 <= rows; r += 3) rowVelocities<3>(dof, X + r * E, z.data(), E, u.data() + r);
+  if (rows - r == 2) rowVelocities<2>(dof, X + r * E, z.data(), E, u.data() + r);
+  if (rows - r == 1) rowVelocities<1>(dof, X + r * E, z.data(), E, u.data() + r);
   return u;
 }
 

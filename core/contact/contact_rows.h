@@ -44,6 +44,10 @@ struct ContactGroup {
   // Its frame (frame()) and rows (buildRows(), complete()).
   Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
   double radius = 0.0;               // a patch's torsion radius
+  // The points it was last computed from (in the patch's plane) and its value: a pair at rest keeps
+  // them (the group is the same pair's while the contacts keep their order; compared each step).
+  int radius_points = -1;
+  double radius_u[kMaxPairPoints] = {}, radius_v[kMaxPairPoints] = {}, radius_of = 0.0;
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
   int first_value = 0;               // its rows' J and X: rows x entries, row-major
   ContactBlock W;                    // its own Delassus block
@@ -145,6 +149,7 @@ class ContactRows {
   std::vector<Motion> twist_;                 // build(): per body, under v_free
   std::vector<int> up_;                       // build(): per entry, its parent dof's entry (-1: none)
   std::vector<int> link_;                     // complete(): one entry's chain upward (entries)
+  std::vector<int> chain_from_;               // complete(): where an entry's chain is contiguous, its first entry
   std::vector<double> link_value_;            // complete(): L's values along it
   std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
   std::vector<int> tree_count_;
