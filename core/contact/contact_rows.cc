@@ -51,6 +51,14 @@ void rowVelocities(const int* dof, const double* X, const double* z, int E, doub
   for (int k = 0; k < N; ++k) u[k] = s[k];
 }
 
+// u = M y over the entries, M rows x E row-major, up to three rows a pass (rowVelocities).
+void rowsTimes(const double* M, const int* dof, const double* y, int rows, int E, double* u) {
+  int r = 0;
+  for (; r + 3 <= rows; r += 3) rowVelocities<3>(dof, M + r * E, y, E, u + r);
+  if (rows - r == 2) rowVelocities<2>(dof, M + r * E, y, E, u + r);
+  if (rows - r == 1) rowVelocities<1>(dof, M + r * E, y, E, u + r);
+}
+
 }  // namespace
 
 ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : model_(model), cm_(contacts) {
@@ -289,26 +297,28 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   }
   // Every row's velocity under v_free (the normals' again: the solve may have moved v_free since
   // build(), passing impacts along; the same sum as build()'s where it has not).
-  for (int r = 0; r < g.rows; ++r) {
-    const double* const J = J_.data() + g.first_value + r * g.entries;
-    double b = 0.0;
-    for (int e = 0; e < g.entries; ++e) b += J[e] * v_free[dof_[static_cast<size_t>(g.first_entry + e)]];
-    g.b[r] = b;
-  }
+  rowsTimes(J_.data() + g.first_value, dof_.data() + g.first_entry, v_free.data(), g.rows, g.entries, g.b.data());
   // X = L^-T J^T, on the entries alone: each entry's parent dof is an entry too (a chain is closed
   // upward), found below it in the ascending list; from the last entry down, each passes its value up
-  // its chain.
-  // Where an entry's chain is every entry just below it (a free body's six dofs, a leg on its base:
-  // the common case), from[e] is the chain's first entry and the update runs on contiguous values;
-  // -1 where it is not (two branches of one tree among the entries).
+  // its chain. Where an entry's chain is every entry just below it (a free body's six dofs, a leg on
+  // its base: the common case), from[e] is the chain's first entry and the update runs on contiguous
+  // values; -1 where it is not (two branches of one tree among the entries). Against the world (a
+  // body on the ground), the entries are one body's path from its root: no search.
   int* const up = up_.data();
   int* const from = chain_from_.data();
-  for (int e = 0; e < g.entries; ++e) {
-    const int parent = model_.dof_parent[dof_[static_cast<size_t>(g.first_entry + e)]];
-    int a = e - 1;
-    while (a >= 0 && dof_[static_cast<size_t>(g.first_entry + a)] != parent) --a;
-    up[e] = parent < 0 ? -1 : a;
-    from[e] = up[e] < 0 ? e : (up[e] == e - 1 && from[e - 1] >= 0 ? from[e - 1] : -1);
+  if (g.tree_a < 0 || g.tree_b < 0) {
+    for (int e = 0; e < g.entries; ++e) {
+      up[e] = e - 1;
+      from[e] = 0;
+    }
+  } else {
+    for (int e = 0; e < g.entries; ++e) {
+      const int parent = model_.dof_parent[dof_[static_cast<size_t>(g.first_entry + e)]];
+      int a = e - 1;
+      while (a >= 0 && dof_[static_cast<size_t>(g.first_entry + a)] != parent) --a;
+      up[e] = parent < 0 ? -1 : a;
+      from[e] = up[e] < 0 ? e : (up[e] == e - 1 && from[e - 1] >= 0 ? from[e - 1] : -1);
+    }
   }
   std::copy(J_.begin() + g.first_value, J_.begin() + g.first_value + g.rows * g.entries, X_.begin() + g.first_value);
   // From the last entry down, each passes its value up its chain. A patch's many rows read each
@@ -320,7 +330,19 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   const int R = g.rows, E = g.entries;
   for (int e = E - 1; e >= 0; --e) {
     const double* const lk = LD.column(dof[e]);
-    if (from[e] >= 0 && R <= kListRows) {  // its chain is the entries from[e] .. e - 1
+    if (from[e] >= 0 && R == 3 && X[e] != 0.0 && X[E + e] != 0.0 && X[2 * E + e] != 0.0) {
+      // its chain is the entries from[e] .. e - 1; a point's three rows at once, L's value read once
+      double* const x0 = X;
+      double* const x1 = X + E;
+      double* const x2 = X + 2 * E;
+      const double k0 = x0[e], k1 = x1[e], k2 = x2[e];
+      for (int a = from[e]; a < e; ++a) {
+        const double l = lk[dof[a]];
+        x0[a] -= l * k0;
+        x1[a] -= l * k1;
+        x2[a] -= l * k2;
+      }
+    } else if (from[e] >= 0 && R <= kListRows) {  // the same, row by row (a row whose value is 0 left alone)
       for (int r = 0; r < R; ++r) {
         double* const x = X + r * E;
         const double xk = x[e];
@@ -361,7 +383,27 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
     }
   }
   const double* const invD = invD_.data() + g.first_entry;
-  for (int r = 0; r < R; ++r)  // every entry any solve reads (its rows x rows): no zeroing
+  if (R == 3) {  // a point: its six sums in one pass (each the same sum, in the same order)
+    double w00 = 0.0, w01 = 0.0, w02 = 0.0, w11 = 0.0, w12 = 0.0, w22 = 0.0;
+    const double* const x0 = X;
+    const double* const x1 = X + E;
+    const double* const x2 = X + 2 * E;
+    for (int e = 0; e < E; ++e) {
+      w00 += x0[e] * x0[e] * invD[e];
+      w01 += x0[e] * x1[e] * invD[e];
+      w02 += x0[e] * x2[e] * invD[e];
+      w11 += x1[e] * x1[e] * invD[e];
+      w12 += x1[e] * x2[e] * invD[e];
+      w22 += x2[e] * x2[e] * invD[e];
+    }
+    g.W(0, 0) = w00;
+    g.W(0, 1) = g.W(1, 0) = w01;
+    g.W(0, 2) = g.W(2, 0) = w02;
+    g.W(1, 1) = w11;
+    g.W(1, 2) = g.W(2, 1) = w12;
+    g.W(2, 2) = w22;
+  }
+  for (int r = 0; r < R && R != 3; ++r)  // every entry any solve reads (its rows x rows): no zeroing
     for (int s = r; s < R; ++s) {
       const double* const xr = X + r * E;
       const double* const xs = X + s * E;
@@ -446,13 +488,7 @@ void ContactRows::add(const ContactGroup& g, const ContactRowVector& delta, int 
 
 ContactRowVector ContactRows::velocity(const ContactGroup& g, const VectorX& z, int rows) const {
   ContactRowVector u = ContactRowVector::Zero();
-  const int* const dof = dof_.data() + g.first_entry;
-  const double* const X = X_.data() + g.first_value;
-  const int E = g.entries;
-  int r = 0;
-  for (; r + 3 <= rows; r += 3) rowVelocities<3>(dof, X + r * E, z.data(), E, u.data() + r);
-  if (rows - r == 2) rowVelocities<2>(dof, X + r * E, z.data(), E, u.data() + r);
-  if (rows - r == 1) rowVelocities<1>(dof, X + r * E, z.data(), E, u.data() + r);
+  rowsTimes(X_.data() + g.first_value, dof_.data() + g.first_entry, z.data(), rows, g.entries, u.data());
   return u;
 }
 
