@@ -353,7 +353,23 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
       const int s = from[e];
       double* const lval = link_value_.data();
       for (int a = s; a < e; ++a) lval[a] = lk[dof[a]];
-      for (int r = 0; r < R; ++r) {
+      int r = 0;
+      for (; r + 1 < R; r += 2) {  // two rows at a time where both move (L's value loaded once)
+        double* const x = X + r * E;
+        double* const y = x + E;
+        const double xk = x[e], yk = y[e];
+        if (xk != 0.0 && yk != 0.0) {
+          for (int a = s; a < e; ++a) {
+            x[a] -= lval[a] * xk;
+            y[a] -= lval[a] * yk;
+          }
+        } else if (xk != 0.0) {
+          for (int a = s; a < e; ++a) x[a] -= lval[a] * xk;
+        } else if (yk != 0.0) {
+          for (int a = s; a < e; ++a) y[a] -= lval[a] * yk;
+        }
+      }
+      for (; r < R; ++r) {
         double* const x = X + r * E;
         const double xk = x[e];
         if (xk == 0.0) continue;
@@ -403,14 +419,31 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
     g.W(1, 2) = g.W(2, 1) = w12;
     g.W(2, 2) = w22;
   }
-  for (int r = 0; r < R && R != 3; ++r)  // every entry any solve reads (its rows x rows): no zeroing
-    for (int s = r; s < R; ++s) {
-      const double* const xr = X + r * E;
-      const double* const xs = X + s * E;
+  // Otherwise rows r and r + 1 against each row s >= r together (each sum as alone); every entry
+  // any solve reads (its rows x rows): no zeroing.
+  for (int r = 0; r < R && R != 3; r += 2) {
+    const double* const xr = X + r * E;
+    if (r + 1 == R) {
       double w = 0.0;
-      for (int e = 0; e < E; ++e) w += xr[e] * xs[e] * invD[e];
-      g.W(r, s) = g.W(s, r) = w;
+      for (int e = 0; e < E; ++e) w += xr[e] * xr[e] * invD[e];
+      g.W(r, r) = w;
+      break;
     }
+    const double* const xq = xr + E;
+    double w = 0.0;
+    for (int e = 0; e < E; ++e) w += xr[e] * xr[e] * invD[e];
+    g.W(r, r) = w;
+    for (int s = r + 1; s < R; ++s) {
+      const double* const xs = X + s * E;
+      double wr = 0.0, wq = 0.0;
+      for (int e = 0; e < E; ++e) {
+        wr += xr[e] * xs[e] * invD[e];
+        wq += xq[e] * xs[e] * invD[e];
+      }
+      g.W(r, s) = g.W(s, r) = wr;
+      g.W(r + 1, s) = g.W(s, r + 1) = wq;
+    }
+  }
   if (g.patch) {
     const Eigen::Matrix3d F = g.W.block<3, 3>(P, P);
     g.friction_inverse = regularisedInverse(F);
@@ -471,6 +504,17 @@ void ContactRows::add(const ContactGroup& g, const ContactRowVector& delta, int 
   const int E = g.entries;
   const double* X[3];
   double d[3];
+  if (rows == 3 && delta[0] != 0.0 && delta[1] != 0.0 && delta[2] != 0.0) {  // a point's three
+    const double* const X0 = X_.data() + g.first_value;
+    X[0] = X0;
+    X[1] = X0 + E;
+    X[2] = X0 + 2 * E;
+    d[0] = delta[0];
+    d[1] = delta[1];
+    d[2] = delta[2];
+    addRows<3>(dof, invD, X, d, E, z.data());
+    return;
+  }
   int n = 0;
   for (int r = 0; r < rows; ++r) {
     if (delta[r] == 0.0) continue;
