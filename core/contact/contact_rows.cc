@@ -51,6 +51,16 @@ void rowVelocities(const int* dof, const double* X, const double* z, int E, doub
   for (int k = 0; k < N; ++k) u[k] = s[k];
 }
 
+// x[a] -= l[a] xk and y[a] -= l[a] yk over a chain's few entries [s, e): scalar (vectorised, the
+// checks for overlap and the remainder cost more than the handful of products).
+__attribute__((optimize("no-tree-vectorize"))) void chainUpdate2(const double* l, double xk, double yk, int s, int e,
+                                                                 double* x, double* y) {
+  for (int a = s; a < e; ++a) {
+    x[a] -= l[a] * xk;
+    y[a] -= l[a] * yk;
+  }
+}
+
 // u = M y over the entries, M rows x E row-major, up to three rows a pass (rowVelocities).
 void rowsTimes(const double* M, const int* dof, const double* y, int rows, int E, double* u) {
   int r = 0;
@@ -359,10 +369,7 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
         double* const y = x + E;
         const double xk = x[e], yk = y[e];
         if (xk != 0.0 && yk != 0.0) {
-          for (int a = s; a < e; ++a) {
-            x[a] -= lval[a] * xk;
-            y[a] -= lval[a] * yk;
-          }
+          chainUpdate2(lval, xk, yk, s, e, x, y);
         } else if (xk != 0.0) {
           for (int a = s; a < e; ++a) x[a] -= lval[a] * xk;
         } else if (yk != 0.0) {
