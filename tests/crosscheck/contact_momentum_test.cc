@@ -3,15 +3,22 @@
 // and joint impulses internal, keeps the spatial momentum of all its bodies to round-off. The
 // Delassus blocks of a self-contact must carry the dofs both links share (the floating base's, a
 // common hip), which take the reaction. And a chain deeper than the solver's old fixed buffers (64 dofs
-// a side) rests on the ground with its weight carried.
+// a side) rests on the ground with its weight carried. And the solve's generalised impulse is J^T of
+// the impulses it reports, J from the kinematics alone, on points, patches, pairs of free bodies and
+// a self-contact.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/kinematics/forward_kinematics.h"
+#include "core/kinematics/jacobian.h"
 #include "core/model/environment_model.h"
+#include "core/scene/scene.h"
 #include "core/simulation/simulation.h"
 #include "tests/support/contact_solve_probe.h"
 #include "tests/support/test_models.h"
@@ -125,6 +132,75 @@ TEST(ContactMomentum, ASnakeDeeperThanTheSolversOldBuffersRestsOnTheGround) {
   EXPECT_EQ(sim.contacts().n, 150);
   EXPECT_NEAR(carried, weight, 1e-6 * weight);
   EXPECT_LT(sim.v().cwiseAbs().maxCoeff(), 1e-6) << "at rest";
+}
+
+// The generalised impulse the solve gave, H (v+ - v_free) (the probe's A = H), against J^T of the
+// impulses it reports: each point's [impulse; moment] through its two bodies' point Jacobians, formed
+// from the kinematics alone (not the rows' X = L^-T J^T, their chains of entries, W or the solve's
+// accumulator). \return the largest relative error over the steps where something touched.
+double generalisedImpulseError(Simulation& sim, int steps, int* touching) {
+  test::ContactSolveProbe probe(sim);
+  const Model& model = sim.model();
+  std::vector<int> frame_of(static_cast<size_t>(model.nb), -1);  // a frame on each body
+  for (int f = static_cast<int>(model.frames.size()) - 1; f >= 0; --f)
+    if (model.frames[static_cast<size_t>(f)].body >= 0) frame_of[static_cast<size_t>(model.frames[static_cast<size_t>(f)].body)] = f;
+  Matrix6X J(6, model.nv);
+  double worst = 0.0;
+  *touching = 0;
+  for (int k = 0; k < steps; ++k) {
+    if (probe.solve(sim.q(), sim.v())) {
+      VectorX tau = VectorX::Zero(model.nv);
+      for (int c = 0; c < probe.set.n; ++c) {
+        const Contact& ct = probe.set[c];
+        Vector6 wrench;
+        wrench << ct.impulse, ct.moment;
+        for (const auto& [body, sign] : {std::pair<int, double>{ct.body_b, 1.0}, {ct.body_a, -1.0}}) {
+          if (body < 0) continue;
+          const int f = frame_of[static_cast<size_t>(body)];
+          pointJacobian(model, probe.data, f, framePose(model, probe.data, f).inverse().act(ct.point), J);
+          tau += sign * J.transpose() * wrench;
+        }
+      }
+      const VectorX impulse = probe.data.H.symmetricUpperTimes(probe.v - probe.v_free);
+      if (tau.norm() > 1e-9) {
+        ++*touching;
+        worst = std::max(worst, (impulse - tau).norm() / tau.norm());
+      }
+    }
+    EXPECT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+  }
+  return worst;
+}
+
+TEST(ContactMomentum, TheGeneralisedImpulseIsTheJacobiansTransposeOfTheReportedImpulses) {
+  // Go1's four feet on the ground (points; each foot's entries one path from the base), Talos's two
+  // soles (patches, friction at their centroids, torsion), a tower of boxes (pairs between two free
+  // bodies) and the quadruped's legs striking each other (one tree: a pair's entries branch).
+  const std::string dir = test::sourceDir() + "/scenes/";
+  struct Case {
+    std::string name;
+    Scene scene;
+    int touching;  // steps in contact at least, of 300
+  };
+  std::vector<Case> cases;
+  cases.push_back({"go1_stand", loadScene(dir + "go1_stand.yaml"), 300});
+  cases.push_back({"talos_stand", loadScene(dir + "talos_stand.yaml"), 300});
+  cases.push_back({"box_tower", loadScene(dir + "box_tower.yaml"), 300});
+  cases.push_back({"quadruped legs striking", sceneText(
+      "robot: {model: ../models/quadruped.urdf, floating_base: true}\ngravity: [0, 0, 0]\n"
+      "initial:\n  q: [0, 0, 0, 1, 0, 0, 0,  0, 0.6, -1.2,  0, 0.6, -1.2,  0, 0.6, -1.2,  0, 0.6, -1.2]\n"
+      "  v: [0, 0, 0, 0, 0, 0,  -6, 0, 0,  0, 0, 0,  6, 0, 0,  0, 0, 0]\n"
+      "controller: {kind: pd, kp: 1, kd: 0.01}\ncontact: {self_collision: true}\n"
+      "simulation: {integrator: linearly_implicit, dt: 0.001}\n"), 2});  // the strike is brief
+  for (Case& c : cases) {
+    Simulation sim(c.scene);
+    int touching = 0;
+    const double error = generalisedImpulseError(sim, 300, &touching);
+    std::printf("%s: in contact %d of 300 steps; H (v+ - v_free) off J^T of the reported impulses by %.2e (relative)\n",
+                c.name.c_str(), touching, error);
+    EXPECT_GE(touching, c.touching) << c.name;
+    EXPECT_LT(error, 1e-10) << c.name;
+  }
 }
 
 }  // namespace
