@@ -192,6 +192,9 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   for (const std::string& w : resolved.warnings) std::fprintf(stderr, "igms-haptic: warning: %s\n", w.c_str());
   const Model& model = *resolved.model;
   const int nlinks = static_cast<int>(model.frames.size());
+  // Before any thread starts, so that every thread inherits it: a servo loop on SCHED_FIFO whose
+  // bus thread an ordinary load can hold back still renders against late states.
+  if (o.rt_priority > 0) requestRealtimeAndSay("igms-haptic", "every thread", o.rt_priority);
   ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id, key, o.accept_replay);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
@@ -234,7 +237,6 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
                  ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
                              o.passivity_tolerance_mj * 1e-3},
                  &record);
-  if (o.rt_priority > 0) requestRealtimeAndSay("igms-haptic", "servo loop", o.rt_priority);
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status

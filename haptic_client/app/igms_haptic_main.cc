@@ -52,8 +52,8 @@ int main(int argc, char** argv) {
                  "after the run, write a scripted device's targets as its device saw them (device frame, link "
                  "waypoints resolved) for the example device plugin (examples/device_plugin)");
   app.add_option("--rt-priority", o.rt_priority,
-                 "ask for SCHED_FIFO at this priority (1-99) for the servo loop and lock memory; a warning and a "
-                 "normal process when not allowed (0: do not ask)")
+                 "ask for SCHED_FIFO at this priority (1-99) for every thread (the servo loop, the bus, the "
+                 "status) and lock memory; a warning and a normal process when not allowed (0: do not ask)")
       ->check(CLI::Range(0, 99));
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   return igms::runClient(o, igms::stopOnSignals());

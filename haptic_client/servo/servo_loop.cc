@@ -1,6 +1,7 @@
 #include "haptic_client/servo/servo_loop.h"
 
 #include <sched.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,10 @@
 #include "core/realtime/deadline.h"
 
 namespace igms {
+
+namespace {
+constexpr long kRealtimeWaitNs = 50000;  // a real-time loop's pause between looks for its state
+}  // namespace
 
 ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus& bus, StateEstimate& estimate,
                      std::vector<SE3>& links, ServoStats& stats, const ServoConfig& config, ServoRecord* record)
@@ -28,6 +33,8 @@ ServoLoop::ServoLoop(const ResolvedScene& scene, HapticDevice& device, ClientBus
 }
 
 double ServoLoop::run(const std::atomic<bool>& stop) {
+  const int policy = sched_getscheduler(0);
+  realtime_ = policy == SCHED_FIFO || policy == SCHED_RR;
   const double start = monotonicSeconds();
   PeriodicDeadline deadline(period_);
   for (int64_t k = 1; !stop; ++k) {
@@ -145,7 +152,17 @@ bool ServoLoop::awaitState(int64_t k, double nominal_start) {
     if (!wait || monotonicSeconds() >= deadline) return echoed;
     // Within the deadline window: yield rather than sleep (a sleep's wake-up
     // costs tens of microseconds on a VM), so the bus thread runs at once.
-    sched_yield();
+    // Under real-time scheduling a yield passes the core to no ordinary
+    // thread: the loop would hold it up to the deadline every cycle, starve
+    // the bus thread that brings the state it waits for, and run into the
+    // kernel's real-time throttling (tens of ms without a cycle). Sleep a
+    // little instead.
+    if (realtime_) {
+      const timespec pause{0, kRealtimeWaitNs};
+      clock_nanosleep(CLOCK_MONOTONIC, 0, &pause, nullptr);
+    } else {
+      sched_yield();
+    }
   }
 }
 

@@ -86,6 +86,7 @@ class ServoLoop {
   int64_t consecutive_misses_ = 0;
   double estimate_time_ = 0.0;  // simulated time the estimate is for (the newest state's plus its age)
   bool resync_ = false;         // a state arrived after a gap in arrivals
+  bool realtime_ = false;       // the loop's thread runs under SCHED_FIFO or SCHED_RR (asked before run())
   // The smallest round trip (from the echoes and sent_inputs_' send times) in this and the last half second.
   double rtt_min_now_ = 1e9, rtt_min_before_ = 1e9, rtt_window_start_ = 0.0;
 };

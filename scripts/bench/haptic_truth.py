@@ -8,11 +8,18 @@ table; with --check, exits 1 unless every run meets the goals:
   scale where the answer is 0); the ripple (standard deviation over the window) within 5 % of the scale;
   the largest force step within the device's bound (1 N); the wall's proxy never past its face.
 Over the bus it must run inside a private network namespace (scripts/netns_run.sh; --in-process needs none).
-  scripts/bench/haptic_truth.py [--check] [--in-process] [--cases a,b] [--delays 0,2,20] [--out DIR] [--json F]"""
+The server, the relay and the client ask for SCHED_FIFO (--rt-priority, 20 unless told; 0: as a normal
+process), as a haptic deployment runs its loops: a loop the scheduler holds back for milliseconds moves the
+hand's input late, and the ripple it makes is the machine's, not the rendering's (docs/haptic_truth.md).
+Each bus run's line says how punctual the client was: its cycles started over a period late and its cycle
+jitter's p99.
+  scripts/bench/haptic_truth.py [--check] [--in-process] [--cases a,b] [--delays 0,2,20] [--out DIR] [--json F]
+                                [--rt-priority N]"""
 import argparse
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -56,25 +63,36 @@ def in_process(build, case, hand, out):
     return s
 
 
-def over_bus(build, case, hand, delay, out, port, client_args=(), return_log=False):
-    """Server (realtime) <- relay (delay each way) <- client (--record); returns the client's record (and its
-    stderr with return_log)."""
+def punctuality(log):
+    """From the client's closing lines: cycles started over a period late, the cycle jitter's p99 (us), and
+    whether its loop got SCHED_FIFO."""
+    late = re.search(r"(\d+) cycles started over a period late", log)
+    jitter = re.search(r"cycle jitter p50 \d+ us, p99 (\d+) us", log)
+    return {"late_cycles": int(late.group(1)) if late else None,
+            "jitter_p99_us": int(jitter.group(1)) if jitter else None,
+            "fifo": "igms-haptic: every thread on SCHED_FIFO" in log}
+
+
+def over_bus(build, case, hand, delay, out, port, client_args=(), return_log=False, rt_priority=0):
+    """Server (realtime) <- relay (delay each way) <- client (--record), each at SCHED_FIFO rt_priority when
+    above 0; returns the client's record (and its stderr with return_log)."""
     script = os.path.join(TRUTH, case["scripts"][hand])
     scene = os.path.join(TRUTH, case["scene"])  # an absolute scene path stands as it is
     server_url = f"udpm://239.255.76.67:{port}?ttl=0"
     client_url = f"udpm://239.255.76.67:{port + 1}?ttl=0"
     path = os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.csv")
     log = open(os.path.join(out, f"{case['name']}_{hand}_{delay:g}ms.log"), "w")
+    rt = ["--rt-priority", str(rt_priority)] if rt_priority > 0 else []
     procs = []
     try:
         procs.append(subprocess.Popen([f"{build}/server/igms-server", "--scene", scene, "--lcm-url", server_url,
-                                       "--clock", "realtime", "--quiet"], stdout=subprocess.DEVNULL, stderr=log))
+                                       "--clock", "realtime", "--quiet"] + rt, stdout=subprocess.DEVNULL, stderr=log))
         procs.append(subprocess.Popen([f"{build}/tools/igms-relay", "--client-url", client_url, "--server-url",
-                                       server_url, "--delay-ms", str(delay), "--seed", "7"],
+                                       server_url, "--delay-ms", str(delay), "--seed", "7"] + rt,
                                       stdout=subprocess.DEVNULL, stderr=log))
         time.sleep(0.3)
         client = subprocess.run([f"{build}/haptic_client/igms-haptic", "--scene", scene, "--device",
-                                 "scripted:" + script, "--lcm-url", client_url, "--record", path] + list(client_args),
+                                 "scripted:" + script, "--lcm-url", client_url, "--record", path] + rt + list(client_args),
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
         log.write(client.stderr)
         if client.returncode != 0:
@@ -139,6 +157,8 @@ def main():
     p.add_argument("--out", default=os.path.join(ROOT, "out", "haptic_truth"))
     p.add_argument("--port", type=int, default=7890)
     p.add_argument("--json", help="write the results here too")
+    p.add_argument("--rt-priority", type=int, default=20,
+                   help="SCHED_FIFO priority of the server, relay and client over the bus (0: normal processes)")
     args = p.parse_args()
     build = os.path.abspath(args.build)
     os.makedirs(args.out, exist_ok=True)
@@ -152,18 +172,27 @@ def main():
         for hand in args.hands.split(","):
             for delay in delays:
                 where = "in-process" if delay is None else f"bus {delay} ms"
-                s = in_process(build, case, hand, args.out) if delay is None else \
-                    over_bus(build, case, hand, delay, args.out, args.port)
+                log = None
+                if delay is None:
+                    s = in_process(build, case, hand, args.out)
+                else:
+                    s, log = over_bus(build, case, hand, delay, args.out, args.port, return_log=True,
+                                      rt_priority=args.rt_priority)
                 r = measure(case, s)
+                if log is not None:
+                    r.update(punctuality(log))
                 fails = judge(case, delay, r)
                 r.update({"case": case["name"], "hand": hand, "path": where, "answer": case["answer"],
                           "formula": case["formula"], "ok": not fails, "failures": fails})
                 results.append(r)
                 failures += [f"{case['name']} {hand} {where}: {f}" for f in fails]
                 ripple = "" if r["ripple"] is None else f", ripple {r['ripple']:.3g}"
+                client = "" if log is None else \
+                    (f"; client {r['late_cycles']} late, jitter p99 {r['jitter_p99_us']} us"
+                     f"{'' if r['fifo'] else ', no SCHED_FIFO'}")
                 print(f"{'ok  ' if not fails else 'FAIL'} {case['name']:14} {hand:5} {where:10} felt {r['value']:.4f} "
                       f"(answer {case['answer']}: {r['error'] * 100:+.2f} %){ripple}, step {r['max_step']:.3f} N"
-                      + (f"; {'; '.join(fails)}" if fails else ""), flush=True)
+                      + client + (f"; {'; '.join(fails)}" if fails else ""), flush=True)
     print()
     print("| case | answer | hand | in-process | bus 0 ms | bus 2 ms | bus 20 ms |")
     print("|---|---|---|---:|---:|---:|---:|")

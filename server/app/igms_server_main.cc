@@ -25,8 +25,8 @@ int main(int argc, char** argv) {
       ->check(igms::cli::Seconds);
   app.add_flag("--quiet", o.quiet, "no status lines on stderr");
   app.add_option("--rt-priority", o.rt_priority,
-                 "ask for SCHED_FIFO at this priority (1-99) and lock memory; a warning and a normal process "
-                 "when not allowed (0: do not ask)")
+                 "ask for SCHED_FIFO at this priority (1-99) for every thread (the loop, the bus, publishing) and "
+                 "lock memory; a warning and a normal process when not allowed (0: do not ask)")
       ->check(CLI::Range(0, 99));
   app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_flag("--accept-replay", o.accept_replay, igms::bus::kAcceptReplayHelp);

@@ -212,7 +212,6 @@ int runScene(const std::string& scene_path, lcm::LCM& bus, bus::SignedPublisher&
   p.publishing.start(o.clock == ServerOptions::Clock::Realtime);
   p.loop.setState(control.paused ? "paused" : runningWord(o));
   p.stepper.snapshot(0);  // the initial state
-  if (o.rt_priority > 0) requestRealtimeAndSay("igms-server", "loop", o.rt_priority);
   const int code = runLoop(bus, receiver, p, control, o, token, stop);
   if (!control.reload && !o.save_edited.empty()) {
     try {
@@ -251,6 +250,9 @@ int runServer(const ServerOptions& options, const std::atomic<bool>& stop) {
   bus::MessageVerifier verifier(key, "igms-server");
   if (o.accept_replay) verifier.acceptReplays();
   BusReceiver receiver(bus, verifier);
+  // Before any thread starts, so that every thread inherits it: a loop on SCHED_FIFO whose
+  // receiving or publishing thread an ordinary load can hold back still steps on late inputs.
+  if (o.rt_priority > 0) requestRealtimeAndSay("igms-server", "every thread", o.rt_priority);
   BusThread bus_thread(bus, o.clock == ServerOptions::Clock::Realtime);
   int64_t token = o.session_token ? o.session_token : randomToken();
   LoopControl control;

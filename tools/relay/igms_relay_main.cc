@@ -8,6 +8,7 @@
 // passes, counting the rest.
 //   igms-relay --client-url URL --server-url URL [--delay-ms D] [--jitter-ms J] [--loss P]
 //              [--up-delay-ms ...] [--down-loss ...] [--in-order] [--seed N] [--duration S]
+//              [--rt-priority N]
 
 #include <poll.h>
 
@@ -24,6 +25,7 @@
 #include "bus/message_verifier.h"
 #include "bus/subscription.h"
 #include "core/cli/command_line.h"
+#include "core/realtime/realtime_priority.h"
 #include "core/realtime/stop_signal.h"
 #include "tools/relay/delay_line.h"
 
@@ -43,6 +45,7 @@ struct Options {
   bool in_order = false;
   unsigned seed = 1;
   double duration = 0, status_s = 0;
+  int rt_priority = 0;
   std::string key_file;
 };
 
@@ -113,6 +116,9 @@ int run(const Options& o, const std::atomic<bool>& stop) {
   Path down("down (server to client)", server, client, o.down_channels,
             faults(o, o.down_delay_ms, o.down_jitter_ms, o.down_loss), o.seed + 1, key);
   std::fprintf(stderr, "igms-relay: client side %s, server side %s\n", o.client_url.c_str(), o.server_url.c_str());
+  // A relay that the scheduler holds back delays every message by the stall: a path with a
+  // steady delay needs the relay as punctual as the loops at its ends.
+  if (o.rt_priority > 0) igms::requestRealtimeAndSay("igms-relay", "relay", o.rt_priority);
   const double start = now();
   double next_status = start + o.status_s;
   pollfd fds[2] = {{client.getFileno(), POLLIN, 0}, {server.getFileno(), POLLIN, 0}};
@@ -170,6 +176,10 @@ int main(int argc, char** argv) {
   app.add_option("--duration", o.duration, "seconds to run (0: until stopped)")->check(igms::cli::Seconds);
   app.add_option("--status-s", o.status_s, "print the counts this often (0: at the end only)")
       ->check(igms::cli::Seconds);
+  app.add_option("--rt-priority", o.rt_priority,
+                 "ask for SCHED_FIFO at this priority (1-99) and lock memory, as igms-server and igms-haptic do; a "
+                 "warning and a normal process when not allowed (0: do not ask)")
+      ->check(CLI::Range(0, 99));
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
   if (o.client_url == o.server_url) {
     std::fprintf(stderr, "igms-relay: --client-url and --server-url must differ (the relay would echo itself)\n");
