@@ -139,13 +139,24 @@ void CoupledDynamics::couplingForce(const Coupling& c, const VectorX& v, Couplin
     }
   }
   if (out.coupled && c.scale != 1.0) {
-    out.applied.force *= c.scale;
-    out.applied.torque *= c.scale;
-    out.K *= c.scale;
-    out.B *= c.scale;
-    out.k_rot *= c.scale;
-    out.b_rot *= c.scale;
+    const double f = rampShare(c.scale, c.carried_force, out.applied.force.norm());
+    const double t = rampShare(c.scale, c.carried_torque, out.applied.torque.norm());
+    out.applied.force *= f;
+    out.K *= f;
+    out.B *= f;
+    out.applied.torque *= t;
+    out.k_rot *= t;
+    out.b_rot *= t;
   }
+}
+
+// A resume ramp's share of a coupling whose size is `now`: what it gave before the gap, `carried`,
+// and `scale` of the way from there to `now` (scale alone when it gave nothing); all of a coupling
+// that has not grown past what it gave. The coupling (force and linearisation) is scaled by it.
+double CoupledDynamics::rampShare(double scale, double carried, double now) {
+  if (carried <= 0.0) return scale;
+  if (now <= carried) return 1.0;
+  return (carried + scale * (now - carried)) / now;
 }
 
 void CoupledDynamics::placeGeometry(const VectorX& q, const GeometryModel& geometry, GeometryData& placed) {

@@ -52,7 +52,10 @@ struct Coupling {
   Matrix3 tip_rotation = Matrix3::Identity();
   Matrix3 attach_rotation = Matrix3::Identity();
   CouplingGains gains;
-  double scale = 1.0;  // the whole coupling (force and its linearisation) times this: a resume ramp
+  // A resume ramp (simulation.h): its share of the way, (0, 1], from what the hand gave before its gap
+  // (the sizes of its force and torque on this frame then) to its whole coupling now. 1: no ramp.
+  double scale = 1.0;
+  double carried_force = 0.0, carried_torque = 0.0;
   int robot = -1;      // the robot this hand holds (HandTrack::holdRobot), -1: none
 
   // The frame the hand acts on: the pushed shape's, or the pulled link (-1: a push on nothing).
@@ -191,6 +194,7 @@ class CoupledDynamics {
  private:
   // One hand's force at (q, v) as placed (push: eq. 3; pull: eq. 4, with its rotational half).
   void couplingForce(const Coupling& c, const VectorX& v, CouplingForce& out);
+  static double rampShare(double scale, double carried, double now);
   // The hold's damping -c H v on F (per held robot's block, or on all), and -c v on qdd when given.
   void subtractHoldDamping(const CoupledInputs& in, const VectorX& v, VectorX& F, VectorX* qdd) const;
 

@@ -202,6 +202,7 @@ void Simulation::coupleHands(const HandInputs& inputs) {
     c.hand = in;
     c.gains = gains_;
     c.scale = h.scale();
+    coupling_hand_[static_cast<size_t>(ncouplings_ - 1)] = &h;
     c.contact_frame = -1;  // the push acts where the server's proxy rests, on something that moves
     c.push_shape = nullptr;
     if (in.mode == InteractionMode::Push && touch_) {
@@ -221,6 +222,8 @@ void Simulation::coupleHands(const HandInputs& inputs) {
     c.pull_frame = in.attach_frame >= 0 ? in.attach_frame : resolved_.pull_frame;
     c.pull_point = in.attach_frame >= 0 ? in.attach_point : scene_.pull.point;
     c.robot = h.holdRobot(robotOfFrame(c.actsOn()));
+    c.carried_force = h.carriedForce(c.actsOn());
+    c.carried_torque = h.carriedTorque(c.actsOn());
     c.tip_rotation = in.tip_orientation.toRotationMatrix();
     c.attach_rotation = in.attach_orientation.toRotationMatrix();
   }
@@ -334,6 +337,7 @@ bool Simulation::step(const HandInputs& hands) {
     const CouplingForce& u = (*couplings)[static_cast<size_t>(c++)];
     if (c == 1) outcome_.force_point = u.applied.point;  // the first interacting hand's (zero when it touches nothing)
     if (!u.coupled) continue;
+    coupling_hand_[static_cast<size_t>(c - 1)]->gave(u.frame, u.applied.force.norm(), u.applied.torque.norm());
     ho.applied = u.applied;
     outcome_.force_on_robot += u.applied.force;
     outcome_.torque_on_robot += u.applied.torque;

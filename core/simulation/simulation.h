@@ -19,7 +19,10 @@
 // client, or its seq jumping by more than 100: a stalled server, a stalled
 // client, inputs lost), that hand's coupling is brought back in over 100 ms instead
 // of as one step: the push the hand stored up meanwhile reaches the robot as
-// a ramp. The rule reads the inputs and the states' timing only, so
+// a ramp. The ramp starts from the force (and torque) the hand gave the same
+// link the step before the gap, not from zero: a hand that leaned on a box
+// through a stall of the loop goes on holding it, and only what it added
+// comes back over the ramp. The rule reads the inputs and the states' timing only, so
 // re-simulating a log reproduces it. The executed motion is recorded as the
 // edited trajectory.
 //
@@ -158,6 +161,7 @@ class Simulation {
   std::array<int, kMaxHands> order_{};  // the step's inputs by client id
   CouplingGains gains_;                 // the gains every coupling takes
   std::array<HandTrack, kMaxHands> hands_;
+  std::array<HandTrack*, kMaxHands> coupling_hand_{};  // each coupling's hand, this step
   bool touch_ = false;                  // push on: the hands' proxies touch the geometry
   GeometryData placed_;                 // the geometry at the step's start
   std::unique_ptr<ContactDetection> detection_;  // null without contact

@@ -85,6 +85,11 @@ def summarise(exp, delay, jitter, loss, out, client_log):
     hit = np.array([int(r["in_collision"]) for r in rows]) > 0
     ee = np.array([[float(r["ee_link.x"]), float(r["ee_link.y"]), float(r["ee_link.z"])] for r in rows])
     target = np.array(scene["trajectory"]["target"])
+    force = np.linalg.norm(np.array([[float(r["fx"]), float(r["fy"]), float(r["fz"])] for r in rows]), axis=1)
+
+    def peak(lo, hi):  # the largest force on the robot between two script times (s), N
+        m = (t >= lo) & (t <= hi)
+        return round(float(force[m].max()), 2) if m.any() else None
     m = re.search(r"(\d+) cycles in ([\d.]+) s \(([\d.]+) Hz\), (\d+) deadline misses.*max force step ([\d.]+) N "
                   r"\((\d+) cycles cut", client_log)
     a = re.search(r"state age p50 ([\d.]+) ms, p99 ([\d.]+) ms, max ([\d.]+) ms; lowest energy balance ([-\d.]+) J, "
@@ -101,6 +106,10 @@ def summarise(exp, delay, jitter, loss, out, client_log):
         "passivity_cycles": int(a.group(5)) if a else None,
         "server_lost": "server lost" in client_log,
         "collision_free": not bool(hit.any()),
+        # Where a run collides, what tells why: when it first did, and how hard each of the paper's two
+        # pushes pressed (paper_push.yaml: 0.35-1.2 s and 1.35-2.2 s).
+        "first_collision_s": round(float(t[hit][0]), 3) if hit.any() else None,
+        "push_peaks_N": [peak(0.35, 1.2), peak(1.35, 2.2)],
         "reached_wall": bool((np.linalg.norm(ee - target, axis=1) <= 0.01).any()),
         "t": t.tolist(), "ee": ee.tolist(),
         # A box push: where box_b ended (the states carry every body as a link).

@@ -137,6 +137,7 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
             int64_t& token, const std::atomic<bool>& stop) {
   const bool lockstep = o.clock == ServerOptions::Clock::Lockstep;
   PeriodicDeadline deadline(1.0 / p.sim->scene().rate_hz);
+  bool late = false;  // realtime: the next step starts after its deadline (catching up)
   while (control.running && !stop) {
     applyCommands(receiver, p, control, o, token);
     if (!control.running) break;
@@ -153,7 +154,7 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
     }
     if (do_step) {
       if (control.steps_requested > 0) --control.steps_requested;
-      const bool ok = p.stepper.step();
+      const bool ok = p.stepper.step(late);
       if (lockstep) p.publishing.pump();
       if (!ok) {
         std::fprintf(stderr, "igms-server: %s\n", p.sim->divergenceReport().c_str());
@@ -164,7 +165,8 @@ int runLoop(lcm::LCM& bus, BusReceiver& receiver, SceneParts& p, LoopControl& co
     }
     if (!lockstep) {
       deadline.advance();
-      if (deadline.passed()) {
+      late = deadline.passed();
+      if (late) {
         if (do_step) ++p.loop.overruns;  // late: counted; the next step still aims at its own deadline
       } else {
         deadline.sleep();

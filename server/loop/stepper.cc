@@ -24,18 +24,42 @@ bool Stepper::lockstepReady() {
   return true;
 }
 
-bool Stepper::step() {
+bool Stepper::step(bool late) {
   const double now = monotonicSeconds();
+  // The loop stood (SIGSTOP, a starved machine): that time does not age the inputs that arrived before
+  // it. A hand that leaned on something through the stall goes on acting, and its resume ramp starts
+  // from what it gave (hand_track.h); the inputs queued meanwhile arrive fresh.
+  if (last_step_s_ > 0.0 && now - last_step_s_ > 1e-6 * static_cast<double>(Simulation::kStallGapUs)) {
+    stall_from_ = last_step_s_;
+    stall_s_ = now - last_step_s_;
+  }
+  last_step_s_ = now;
   inputs_.clear();
   for (size_t k = 0; k < hands_.size(); ++k) {
     const uint64_t version = hands_[k].read(&latest_[k]);
-    const bool unconsumed = version != consumed_version_[k];
-    if (unconsumed) {
-      consumed_version_[k] = version;
-      ++status_.consumed_inputs;
+    // A late step (realtime, catching up after a stall) takes the hand's inputs in the order it made
+    // them, the next after the one it took last, while that is older than the newest: the newest
+    // would pair a step with where the hand is now, not where it was at that step.
+    const TimedInput* in = &latest_[k];
+    if (late && !lockstep_ && version > 0 && latest_[k].input.client == used_client_[k]) {
+      const int64_t newest = latest_[k].input.seq;
+      for (int64_t seq = used_seq_[k] + 1; seq < newest && seq <= used_seq_[k] + kInOrderLookahead; ++seq) {
+        if (hands_[k].readSeq(seq, &older_[k]) && older_[k].input.client == used_client_[k]) {
+          in = &older_[k];
+          break;
+        }
+      }
     }
-    const bool acts = version > 0 && (lockstep_ ? unconsumed : now - latest_[k].arrived <= input_hold_);
-    if (acts) inputs_.add(latest_[k].input);
+    const bool newest = in == &latest_[k];
+    const bool unconsumed = newest ? version != consumed_version_[k] : true;
+    if (unconsumed) ++status_.consumed_inputs;
+    if (newest && unconsumed) consumed_version_[k] = version;
+    const double age = now - in->arrived - (in->arrived <= stall_from_ ? stall_s_ : 0.0);
+    const bool acts = version > 0 && (lockstep_ ? unconsumed : age <= input_hold_);
+    if (!acts) continue;
+    inputs_.add(in->input);
+    used_seq_[k] = in->input.seq;
+    used_client_[k] = in->input.client;
   }
   pending_since_ = -1.0;
   // Stopped for over 20 ms since the last state (SIGSTOP, a starved machine): the same test a

@@ -63,7 +63,9 @@ def main():
             # its own motion); the controller holds it at -25 mJ, and its 1 N cap may let a cycle's worth past.
             check(r["lowest_energy_mJ"] is not None and r["lowest_energy_mJ"] >= -30.0,
                   f"lowest energy balance {r['lowest_energy_mJ']} mJ >= -30 mJ")
-            check(r["collision_free"], "collision-free")
+            check(r["collision_free"], "collision-free" if r["collision_free"] else
+                  f"collision-free (first collision at {r['first_collision_s']} s; the two pushes' largest forces "
+                  f"{r['push_peaks_N']} N; oldest state held {r['state_age_max_ms']} ms)")
             check(r["reached_wall"], "reached the wall")
     if failures:
         print(f"{len(failures)} checks failed", file=sys.stderr)
