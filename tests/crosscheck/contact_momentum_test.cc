@@ -195,8 +195,9 @@ TEST(ContactMomentum, TheGeneralisedImpulseIsTheJacobiansTransposeOfTheReportedI
       "simulation: {integrator: linearly_implicit, dt: 0.001}\n"), 2});  // the strike is brief
   // A box whose inertia has products (body axes not its principal axes: its block of L is not the
   // identity, so its chains must move X), dropped tilted: it lands on a corner, falls onto a face and
-  // slides. (Its patch's points a few um off one plane, the check reads 8.5e-12; skipping its chains
-  // reads 7.2e-2. Spinning as well, it reads 1.5e-6: see docs/environment.md.)
+  // slides. (The check reads 8.5e-12, above the other cases' round-off: likely its patch's points a few
+  // um off one plane, measured only for the spinning case. Skipping its chains reads 7.2e-2. Spinning
+  // as well, it reads 1.5e-6: see docs/environment.md.)
   cases.push_back({"box with products of inertia", sceneText(
       "ground: {height: 0}\nbodies:\n"
       "  - {name: box, shape: box, size: [0.2, 0.2, 0.2], mass: 1.0, xyz: [0, 0, 0.16], rpy: [0.4, 0.3, 0],\n"
