@@ -356,6 +356,8 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
   ChildProcess server = startServer("puma_wall.yaml");
   ASSERT_TRUE(listener.waitForStatus(1, 10.0));
   lcm::LCM bus(url());
+  // Each command is sent, then the test waits (up to 5 s) for the status that shows it took effect:
+  // a fixed wait failed in CI when the status came later than 400 ms on a loaded machine.
   auto send = [&](int8_t kind, const std::string& text = "") {
     command_t c{};
     c.kind = kind;
@@ -365,24 +367,38 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
       c.auth = std::to_string(listener.status.session_token);  // a reset changes it
     }
     bus.publish(channels::kCommand, &c);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  };
+  auto statusesAfter = [&](int n) {
+    int seen;
+    {
+      std::lock_guard<std::mutex> l(listener.mutex);
+      seen = listener.statuses;
+    }
+    return listener.waitForStatus(seen + n, 5.0);
   };
   send(command_t::PAUSE);
-  int64_t paused_seq;
+  ASSERT_TRUE(listener.waitUntil(5.0, [&] { return listener.status.state == "paused"; })) << "PAUSE took no effect";
+  int64_t paused_steps;
   {
     std::lock_guard<std::mutex> l(listener.mutex);
-    paused_seq = listener.last.seq;
+    paused_steps = listener.status.steps;  // read after the state changed: final
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_TRUE(listener.waitUntil(5.0, [&] { return listener.last.seq == paused_steps; }))
+      << "the last state published is the paused step's";
+  ASSERT_TRUE(statusesAfter(3));
   {
     std::lock_guard<std::mutex> l(listener.mutex);
-    EXPECT_EQ(listener.last.seq, paused_seq) << "paused: no steps";
+    EXPECT_EQ(listener.status.steps, paused_steps) << "paused: no steps";
+    EXPECT_EQ(listener.last.seq, paused_steps) << "paused: no states";
     EXPECT_EQ(listener.status.state, "paused");
   }
   send(command_t::STEP);
+  EXPECT_TRUE(listener.waitUntil(5.0, [&] { return listener.last.seq == paused_steps + 1; })) << "one step";
+  ASSERT_TRUE(statusesAfter(3));
   {
     std::lock_guard<std::mutex> l(listener.mutex);
-    EXPECT_EQ(listener.last.seq, paused_seq + 1) << "one step";
+    EXPECT_EQ(listener.last.seq, paused_steps + 1) << "one step, no more";
+    EXPECT_EQ(listener.status.steps, paused_steps + 1);
   }
   // A SET_TRAJECTORY that fails (one point) is rejected with a reason; the server stays paused.
   command_t bad{};
@@ -394,15 +410,17 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
   bad.trajectory.q = {std::vector<double>(6, 0.0)};
   bad.auth = std::to_string(kToken);
   bus.publish(channels::kCommand, &bad);
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_TRUE(listener.waitUntil(5.0, [&] { return listener.status.commands_rejected == 1; }));
   {
     std::lock_guard<std::mutex> l(listener.mutex);
     EXPECT_EQ(listener.status.state, "paused") << "a rejected command leaves the state alone";
     EXPECT_NE(listener.status.message.find("SET_TRAJECTORY"), std::string::npos) << listener.status.message;
-    EXPECT_EQ(listener.status.commands_rejected, 1);
   }
   const std::string path = ::testing::TempDir() + "/server_edited.yaml";
+  std::remove(path.c_str());
   send(command_t::SAVE_TRAJECTORY, path);
+  for (int k = 0; k < 500 && readFile(path).find("waypoints:") == std::string::npos; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_NE(readFile(path).find("waypoints:"), std::string::npos);
   std::remove(path.c_str());
   int64_t old_token;
@@ -411,11 +429,13 @@ TEST(Server, CommandsPauseStepResetAndSaveTheEditedTrajectory) {
     old_token = listener.status.session_token;
   }
   send(command_t::RESET);
-  send(command_t::START);
+  EXPECT_TRUE(listener.waitUntil(5.0, [&] { return listener.status.session_token != old_token; }))
+      << "a reset starts a new session";
+  send(command_t::START);  // with the new session's token
+  EXPECT_TRUE(listener.waitUntil(5.0, [&] { return listener.status.state == "running"; }));
   std::lock_guard<std::mutex> l(listener.mutex);
-  EXPECT_NE(listener.status.session_token, old_token) << "a reset starts a new session";
   EXPECT_LT(listener.last.sim_time, 0.5);
-  EXPECT_EQ(listener.status.state, "running");
+  EXPECT_EQ(listener.status.commands_rejected, 1) << "the START with the new token was accepted";
 }
 
 TEST(Server, CommandsNeedTheTokenAndStayInTheirFolders) {
