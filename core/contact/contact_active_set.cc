@@ -35,6 +35,12 @@ void scaledFriction(const ContactGroup& g, Vector3& s, Vector3& w) {
   }
 }
 
+// The size of friction s in the scaled coordinates: mu N on the edge of the cone, the ellipsoid or the
+// patch's limit surface.
+double frictionSize(const ContactGroup& g, const Vector3& s) { return shaped(g) ? limitSize(g.surface, s) : s.norm(); }
+// The friction per mu N against slip w (w not 0): on the edge, opposite -w in the dissipation's sense.
+Vector3 againstSlip(const ContactGroup& g, const Vector3& w) { return shaped(g) ? limitGradient(g.surface, w) : w / w.norm(); }
+
 // The trial's load on a group's touching (unknown) normals.
 double tightLoad(const ContactGroup& g) {
   double N = 0.0;
@@ -246,8 +252,9 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
     // slipping along itself, it was stuck again, then slid again, and the two guesses took turns to
     // the round limit (994 of the 1,223 polishes that failed in puma_table's 8 s cycled in two rounds).
     if (g.sliding && tightLoad(g) < 0.0) continue;
-    if (!g.sliding && s.norm() > cap * (1.0 + 1e-9) + 1e-15) {
-      candidate((s.norm() - cap) / g.friction_step + tolerance, m, P);
+    const double loose = cap * (1.0 + 1e-9) + 1e-15;
+    if (!g.sliding && (shaped(g) ? !limitInside(g.surface, s, loose) : s.norm() > loose)) {
+      candidate((frictionSize(g, s) - cap) / g.friction_step + tolerance, m, P);
     } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {
       candidate(s.dot(w) / s.norm(), m, P);  // slipping along its friction: it sticks instead
     }
@@ -271,10 +278,12 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     Vector3 s = Vector3::Zero();
     for (int f = 0; f < F; ++f) s[f] = g.lambda[P + f] / scale[f];
     const double cap = g.mu * (g.patch ? N : std::max(g.lambda[0], 0.0));
-    g.sliding = cap > 0.0 && s.norm() >= kInside * cap;
+    g.sliding = cap > 0.0 && (shaped(g) ? !limitInside(g.surface, s, kInside * cap) : s.norm() >= kInside * cap);
     std::fill(g.slide, g.slide + kMaxContactRows, 0.0);
-    if (g.sliding)
-      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+    if (g.sliding) {
+      const double size = frictionSize(g, s);
+      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / size;
+    }
     g.spin_sliding = g.roll_sliding = false;
     restuck_[static_cast<size_t>(m)] = 0;
     if (g.resists) {
@@ -482,7 +491,8 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       Vector3 s = Vector3::Zero();
       for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
       g.sliding = true;
-      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / s.norm();
+      const double size = frictionSize(g, s);
+      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / size;
     } else if (restuck_[static_cast<size_t>(worst_group)] > 0) {
       // Stuck once already in this polish and slipping along itself again: turned against its slip,
       // not stuck again (stick and slip took turns to the round limit).
@@ -490,7 +500,12 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       const Vector3 scale = scaleOf(g);
       Vector3 s, w;
       scaledFriction(g, s, w);
-      for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * w[f] / w.norm();
+      if (shaped(g)) {
+        const Vector3 against = againstSlip(g, w);
+        for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * against[f];
+      } else {
+        for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * w[f] / w.norm();
+      }
     } else {
       g.sliding = false;
       ++restuck_[static_cast<size_t>(worst_group)];
@@ -509,7 +524,8 @@ double ContactActiveSet::slipMisalignment(ContactRows& rows, int n, double toler
     Vector3 s, w;
     scaledFriction(g, s, w);
     if (!(s.norm() > 0.0) || !(w.norm() > tolerance)) continue;
-    const double chord = (s.normalized() + w.normalized()).norm();  // 2 sin(angle / 2)
+    const Vector3 against = shaped(g) ? againstSlip(g, w).normalized() : w.normalized();
+    const double chord = (s.normalized() + against).norm();  // 2 sin(angle / 2)
     worst = std::max(worst, 2.0 * std::asin(std::min(1.0, 0.5 * chord)));
   }
   return worst;
@@ -519,7 +535,7 @@ double ContactActiveSet::slipMisalignment(ContactRows& rows, int n, double toler
 // round's answer keeps a slipping friction along the direction the sweeps guessed, which need not be
 // against the slip that answer gives (up to 90 degrees off). With s the friction and w its slip in
 // the scaled coordinates (where a patch's ellipsoid is a ball), s |w| + mu N w = 0 puts it against
-// the slip on the cone's edge. From the round's answer, at most kSteps steps, each halved while it
+// the slip on the cone's edge; on a patch's limit surface, s h(w) + mu N h(w) grad h(w) = 0. From the round's answer, at most kSteps steps, each halved while it
 // does not lower the residual. \return the friction was already against its slip, or the turned
 // answer meets every condition (it is then the trial); else the trial is left as it was.
 bool ContactActiveSet::turnSlips(ContactRows& rows, int n, double tolerance) {
@@ -592,9 +608,12 @@ bool ContactActiveSet::turnSlips(ContactRows& rows, int n, double tolerance) {
       Vector3 s, w;
       scaledFriction(g, s, w);
       const double muN = g.mu * tightLoad(g);
+      // h grad h(w): w itself for the cone and the ellipsoid.
+      const double h = shaped(g) ? limitSupport(g.surface, w) : w.norm();
+      const Vector3 along = shaped(g) ? Vector3(h * limitGradient(g.surface, w)) : w;
       for (int f = 0; f < F; ++f) {
         const int i = g.unknown[P + f];
-        G[i] = s[f] * w.norm() + muN * w[f];
+        G[i] = s[f] * h + muN * along[f];
         const double e = muN > 0.0 ? G[i] / muN : G[i];
         sum += e * e;
       }
@@ -653,6 +672,21 @@ bool ContactActiveSet::turnSlips(ContactRows& rows, int n, double tolerance) {
       if (!(speed > tolerance)) {  // its slip has gone: it sticks, not for this solve
         restore(false);
         return false;
+      }
+      if (shaped(g)) {  // G = s h + mu N h grad h, with h grad h's Jacobian grad h grad h^T + h Hess h
+        Vector3 grad;
+        Eigen::Matrix3d hess;
+        const double h = limitDerivatives(g.surface, w, grad, hess);
+        const Eigen::Matrix3d along = grad * grad.transpose() + h * hess;
+        for (int f = 0; f < F; ++f) {
+          const int i = g.unknown[P + f];
+          for (int j = 0; j < F; ++j)
+            J.row(i) += ((s[f] * grad[j] + g.mu * N * along(f, j)) * scale[j]) * V.row(P + j);
+          J(i, i) += h;
+          for (int k = 0; k < P; ++k)
+            if (g.unknown[k] >= 0) J(i, g.unknown[k]) += g.mu * h * grad[f];
+        }
+        continue;
       }
       for (int f = 0; f < F; ++f) {
         const int i = g.unknown[P + f];

@@ -188,6 +188,7 @@ void ContactRows::frame(ContactGroup& g) const {
     for (int k = 0; same && k < n; ++k) same = u[k] == g.radius_u[k] && v[k] == g.radius_v[k];
     if (!same) {
       g.radius_of = patchTorsionRadius(u, v, n);
+      sampleLimitSurface(u, v, n, g.surface);
       g.radius_points = n;
       std::copy(u, u + n, g.radius_u);
       std::copy(v, v + n, g.radius_v);

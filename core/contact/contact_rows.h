@@ -14,6 +14,7 @@
 
 #include "core/contact/contact_model.h"
 #include "core/contact/contact_set.h"
+#include "core/contact/limit_surface.h"
 #include "core/geometry/shape_contact.h"
 #include "core/model/data.h"
 
@@ -70,7 +71,13 @@ struct ContactGroup {
   double slide[kMaxContactRows] = {};
   int unknown[kMaxContactRows] = {};
   ContactRowVector trial, trial_u;
+  // A patch's limit surface (frame(), with its radius): the friction its sampled grid of points gives.
+  LimitSurface surface;
 };
+
+// Whether g's friction is a patch's with a sampled limit surface (else a point's cone, or a patch's
+// ellipsoid where its points gave no surface).
+inline bool shaped(const ContactGroup& g) { return g.patch && g.radius > 0.0 && g.surface.samples > 0; }
 
 // Newton's restitution applies at a point that approaches at `approach` (m/s, from the step's start),
 // faster than bounce_velocity, and reaches the surface within the step at normal speed u.

@@ -58,10 +58,16 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
     double N = 0.0;
     for (int k = 0; k < P; ++k) N += g.lambda[k];
     Vector3 f(prev.friction.dot(g.t1), prev.friction.dot(g.t2), g.patch ? prev.torsion : 0.0);
-    // Inside the cone (or the patch's ellipsoid) of today's load.
+    // Inside the cone (or the patch's limit surface, or its ellipsoid) of today's load.
     const double rad = g.patch && g.radius > 0.0 ? g.radius : 1.0;
-    const double size = std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad)), cap = g.mu * N;
-    if (size > cap) f *= cap / size;
+    const double cap = g.mu * N;
+    if (shaped(g)) {
+      const Vector3 scaled(f.x(), f.y(), f.z() / rad);
+      if (!limitInside(g.surface, scaled, cap)) f *= cap / limitSize(g.surface, scaled);
+    } else {
+      const double size = std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad));
+      if (size > cap) f *= cap / size;
+    }
     g.lambda.segment<2>(P) = f.head<2>();
     if (g.patch) g.lambda[P + 2] = f.z();
   }
@@ -123,8 +129,15 @@ bool ContactSolver::anySliding() const {
     for (int k = 0; k < P; ++k) N += std::max(g.lambda[k], 0.0);
     const double cap = g.mu * N;
     const double rad = g.patch && g.radius > 0.0 ? g.radius : 1.0;
-    const double size = std::sqrt(g.lambda[P] * g.lambda[P] + g.lambda[P + 1] * g.lambda[P + 1] + (g.patch ? (g.lambda[P + 2] / rad) * (g.lambda[P + 2] / rad) : 0.0));
-    if (cap > 0.0 && size >= (1.0 - 1e-9) * cap) return true;
+    if (!(cap > 0.0)) continue;
+    if (shaped(g)) {
+      if (!limitInside(g.surface, Vector3(g.lambda[P], g.lambda[P + 1], g.lambda[P + 2] / rad), (1.0 - 1e-9) * cap))
+        return true;
+      continue;
+    }
+    const double size = std::sqrt(g.lambda[P] * g.lambda[P] + g.lambda[P + 1] * g.lambda[P + 1] +
+                                  (g.patch ? (g.lambda[P + 2] / rad) * (g.lambda[P + 2] / rad) : 0.0));
+    if (size >= (1.0 - 1e-9) * cap) return true;
   }
   return false;
 }

@@ -14,9 +14,10 @@
 //   friction, per pair of shapes: a pair that touches at one point (a sphere, a foot) has two
 //     tangents there, |lambda_t| <= mu lambda_n; a pair that touches at several (a box on the
 //     floor, a sole) has one friction for the whole patch at the points' centroid, two tangents
-//     and a torsion about the normal, inside the ellipsoid (|f_t| / mu N)^2 + (tau / mu N r)^2
-//     <= 1 (N the patch's normal load, r its mean radius under uniform pressure; the ellipsoidal limit
-//     surface of Howe and Cutkosky). Either way: stick (zero slip) inside, and at the edge the
+//     and a torsion about the normal, inside the patch's limit surface under uniform pressure
+//     (limit_surface.h: a sampled grid of Coulomb points, N the patch's normal load, r its mean
+//     radius; a patch whose points give no surface keeps Howe and Cutkosky's ellipsoid
+//     (|f_t| / mu N)^2 + (tau / mu N r)^2 <= 1). Either way: stick (zero slip) inside, and at the edge the
 //     friction opposite the slip (maximal dissipation). One friction per patch has no internal
 //     tangential forces between its points (four corners' frictions would fight in their null
 //     space and come near the cone), and slides straight whatever the normal loads.

@@ -49,7 +49,8 @@ void solvePoint(ContactGroup& g, const ContactRowVector& u) {
 }
 
 // A patch: its normals one by one (u kept current through the group's own block), then its friction
-// (two tangents and a torsion) at once, inside the ellipsoid (|f_t| / mu N)^2 + (tau / mu N r)^2 <= 1.
+// (two tangents and a torsion) at once, inside its limit surface (limit_surface.h), or where it has
+// none the ellipsoid (|f_t| / mu N)^2 + (tau / mu N r)^2 <= 1.
 void solvePatch(ContactGroup& g, ContactRowVector u) {
   const int R = g.rows, P = g.points;
   for (int k = 0; k < P; ++k) {
@@ -63,7 +64,17 @@ void solvePatch(ContactGroup& g, ContactRowVector u) {
   const Vector3 lam = g.lambda.segment<3>(P);
   const Vector3 uf = u.segment<3>(P);
   Vector3 l = Vector3::Zero();
-  if (N > 0.0) {
+  if (N > 0.0 && shaped(g)) {
+    // Its sampled limit surface: stick where the friction that stops it is inside, else an isotropic
+    // step in the scaled coordinates, then to the nearest point of the surface.
+    const double rad = g.radius, cap = g.mu * N;
+    const Vector3 scale(1.0, 1.0, rad);
+    l = lam - g.friction_inverse * uf;
+    if (!limitInside(g.surface, l.cwiseQuotient(scale), cap)) {
+      Vector3 s = lam.cwiseQuotient(scale) - g.friction_step * scale.cwiseProduct(uf);
+      l = scale.cwiseProduct(limitProject(g.surface, s, cap));
+    }
+  } else if (N > 0.0) {
     const double rad = g.radius;
     auto size = [&](const Vector3& f) { return rad > 0.0 ? std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad)) : f.head<2>().norm(); };
     l = lam - g.friction_inverse * uf;

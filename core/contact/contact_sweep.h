@@ -1,7 +1,7 @@
 // Projected block Gauss-Seidel on the contact rows (contact_rows.h): pair by pair, its velocity
 // u = b + X^T z from the accumulator, the pair's block solved or projected (a point: sticking first,
 // the whole 3x3 block at once, else the normal and the friction onto the cone; a patch: its normals
-// one by one, then its friction inside the ellipsoidal limit surface), and z updated by the change.
+// one by one, then its friction inside its limit surface), and z updated by the change.
 // At the edge of the cone the friction steps isotropically (1 / the largest eigenvalue of its
 // block), whose fixed point has the friction opposite the slip (maximal dissipation).
 #pragma once

@@ -8,6 +8,7 @@ namespace igms {
 namespace {
 
 constexpr int kMaxPoints = 4;
+constexpr double kLineArea = 1e-6;  // an area below this times the longest chord squared: a line
 
 // A point's angle about the origin as a cheaper number in the same order: atan2's (-pi, pi] mapped
 // monotonically onto (-2, 2] along the diamond |x| + |y| = 1.
@@ -34,6 +35,21 @@ double triangleMoment(double d, double sa, double sb, double len) {
   return std::abs(m) / 6.0;
 }
 
+// The longest chord's length squared, and its ends (where asked).
+double longestChord(const double* u, const double* v, int n, int* end_a, int* end_b) {
+  double extent2 = 0.0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      const double d2 = (u[a] - u[b]) * (u[a] - u[b]) + (v[a] - v[b]) * (v[a] - v[b]);
+      if (d2 > extent2 || (a == 0 && b == 1)) {
+        extent2 = d2;
+        if (end_a) *end_a = a;
+        if (end_b) *end_b = b;
+      }
+    }
+  return extent2;
+}
+
 }  // namespace
 
 // Every patch, every step: one asinh an edge and no atan2 or hypot (the few dozen such calls a step
@@ -41,14 +57,8 @@ double triangleMoment(double d, double sa, double sb, double len) {
 double patchTorsionRadius(const double* u, const double* v, int n) {
   n = std::min(n, kMaxPoints);
   if (n < 2) return 0.0;
-  double angle[kMaxPoints];
   int order[kMaxPoints];
-  for (int k = 0; k < n; ++k) {  // around the origin by angle, insertion sort: a handful of points
-    angle[k] = pseudoAngle(u[k], v[k]);
-    int j = k;
-    for (; j > 0 && angle[order[j - 1]] > angle[k]; --j) order[j] = order[j - 1];
-    order[j] = k;
-  }
+  patchOrder(u, v, n, order);
   double area = 0.0, moment = 0.0;  // the polygon's area and the integral of |r| over it
   for (int k = 0; n > 2 && k < n; ++k) {
     const int a = order[k], b = order[(k + 1) % n];
@@ -59,12 +69,31 @@ double patchTorsionRadius(const double* u, const double* v, int n) {
     area += 0.5 * d * std::abs(sb - sa);
     moment += triangleMoment(d, sa, sb, len);
   }
-  double extent2 = 0.0;  // the longest chord, squared
-  for (int a = 0; a < n; ++a)
-    for (int b = a + 1; b < n; ++b)
-      extent2 = std::max(extent2, (u[a] - u[b]) * (u[a] - u[b]) + (v[a] - v[b]) * (v[a] - v[b]));
-  if (!(area > 1e-6 * extent2)) return 0.25 * std::sqrt(extent2);  // a line, or all but one
+  const double extent2 = longestChord(u, v, n, nullptr, nullptr);
+  if (!(area > kLineArea * extent2)) return 0.25 * std::sqrt(extent2);  // a line, or all but one
   return moment / area;
+}
+
+void patchOrder(const double* u, const double* v, int n, int* order) {
+  n = std::min(n, kMaxPoints);
+  double angle[kMaxPoints];
+  for (int k = 0; k < n; ++k) {  // around the origin by angle, insertion sort: a handful of points
+    angle[k] = pseudoAngle(u[k], v[k]);
+    int j = k;
+    for (; j > 0 && angle[order[j - 1]] > angle[k]; --j) order[j] = order[j - 1];
+    order[j] = k;
+  }
+}
+
+bool patchHasArea(const double* u, const double* v, int n, const int* order, int* a, int* b) {
+  n = std::min(n, kMaxPoints);
+  const double extent2 = longestChord(u, v, n, a, b);
+  double twice = 0.0;  // the polygon's area, twice (shoelace, in order)
+  for (int k = 0; n > 2 && k < n; ++k) {
+    const int p = order[k], q = order[(k + 1) % n];
+    twice += u[p] * v[q] - u[q] * v[p];
+  }
+  return 0.5 * std::abs(twice) > kLineArea * extent2;
 }
 
 }  // namespace igms

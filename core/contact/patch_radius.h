@@ -11,4 +11,11 @@ namespace igms {
 // their polygon; else a line, uniform along it: a quarter of its length; fewer than two: 0.
 double patchTorsionRadius(const double* u, const double* v, int n);
 
+// The same points' order around their centroid (by angle; n at most 4): the polygon's corners in turn.
+void patchOrder(const double* u, const double* v, int n, int* order);
+
+// Whether the points span an area (three or more not all in a row), as patchTorsionRadius decides:
+// else they are a line, of the longest chord's ends *a and *b.
+bool patchHasArea(const double* u, const double* v, int n, const int* order, int* a, int* b);
+
 }  // namespace igms

@@ -4,7 +4,7 @@ the page.
 
   1. scenes/puma_table.yaml: the boxes, the table and the ground are drawn with
      the contacts (points and force arrows; key c hides and shows them), and a
-     drag pushes a box along the table by more than 5 cm, and a drag whose
+     drag pushes a box along the table by more than 3 cm, and a drag whose
      first message reaches the client with the next (a busy machine) still
      starts at the picked point.
   2. scenes/hand_table.yaml (the PUMA still, boxes and a ball on the table):
@@ -185,7 +185,9 @@ def table_and_push(checks, driver):
     box = on_table[0]
     start = position(page, box)
     moved = push_box(checks, driver, page, box, start)
-    checks.check(moved > 0.05, "the drag pushed the box more than 5 cm",
+    # 4.7-5.0 cm from where the arm's knock leaves box_a since the patches' limit surface (6.7-6.8 cm
+    # before, from another pose); a press that fails, on the edge, moved it 0.9 cm.
+    checks.check(moved > 0.03, "the drag pushed the box more than 3 cm",
                  "%.3f m from %s" % (moved, [round(x, 3) for x in start]))
     drag_start_survives_merging(checks, driver, page, box)
     step = page.frame()["client"]["max_force_step"]
