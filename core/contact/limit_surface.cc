@@ -150,37 +150,56 @@ double limitDerivatives(const LimitSurface& s, const Vector3& w, Vector3& grad, 
   return h;
 }
 
-// The dual norm by its smooth form: max over x of f . x - h(x)^2 / 2 is size^2 / 2, at the x where
-// f = h grad h. Newton's method on that equation from x = f (the ball's answer), each step halved
-// until it shrinks the equation's residual (the value itself stops changing at round-off well before
-// the point does).
-// Also gives that x, the outward normal of the surface where the ray through f meets it.
-static double sizeAndNormal(const LimitSurface& s, const Vector3& f, Vector3& x) {
-  x = f;
-  Vector3 grad;
+namespace {
+
+// A point of Newton's method below: x, h's derivatives there, and the equation's residual.
+struct NewtonPoint {
+  Vector3 x, grad, r;
   Eigen::Matrix3d hess;
-  double h = limitDerivatives(s, x, grad, hess);
-  Vector3 r = f - h * grad;
-  const double small = 1e-15 * f.norm();
-  for (int it = 0; it < kNewtonSteps && r.norm() > small; ++it) {
-    const Vector3 step = (grad * grad.transpose() + h * hess).ldlt().solve(r);
+  double h = 0.0;
+};
+
+// Newton's method on an equation in x, residual(p) from h's derivatives at p.x, from p (filled in):
+// each step, step(p), halved until it shrinks the residual (the objectives behind both equations
+// stop changing at round-off well before the point does), until the residual is below `small`, no
+// halving shrinks it, or kNewtonSteps.
+template <typename Residual, typename Step>
+void newtonSolve(const LimitSurface& s, NewtonPoint& p, double small, Residual residual, Step step) {
+  for (int it = 0; it < kNewtonSteps && p.r.norm() > small; ++it) {
+    const Vector3 d = step(p);
     bool shrank = false;
     double t = 1.0;
     for (int k = 0; k < kHalvings && !shrank; ++k, t *= 0.5) {
-      Vector3 gy;
-      Eigen::Matrix3d hy;
-      const Vector3 y = x + t * step;
-      const double h_y = limitDerivatives(s, y, gy, hy);
-      const Vector3 ry = f - h_y * gy;
-      if (ry.norm() < r.norm()) {
+      NewtonPoint y;
+      y.x = p.x + t * d;
+      y.h = limitDerivatives(s, y.x, y.grad, y.hess);
+      y.r = residual(y);
+      if (y.r.norm() < p.r.norm()) {
         shrank = true;
-        x = y, h = h_y, grad = gy, hess = hy, r = ry;
+        p = y;
       }
     }
     if (!shrank) break;
   }
-  return h;  // at the answer f = h grad h, and f's size is h(x)
 }
+
+// The dual norm by its smooth form: max over x of f . x - h(x)^2 / 2 is size^2 / 2, at the x where
+// f = h grad h, from x = f (the ball's answer); at the answer f's size is h(x). Also gives that x,
+// the outward normal of the surface where the ray through f meets it.
+double sizeAndNormal(const LimitSurface& s, const Vector3& f, Vector3& normal) {
+  auto residual = [&](const NewtonPoint& p) -> Vector3 { return f - p.h * p.grad; };
+  NewtonPoint p;
+  p.x = f;
+  p.h = limitDerivatives(s, p.x, p.grad, p.hess);
+  p.r = residual(p);
+  newtonSolve(s, p, 1e-15 * f.norm(), residual, [](const NewtonPoint& q) -> Vector3 {
+    return (q.grad * q.grad.transpose() + q.h * q.hess).ldlt().solve(q.r);
+  });
+  normal = p.x;
+  return p.h;
+}
+
+}  // namespace
 
 double limitSize(const LimitSurface& s, const Vector3& f) {
   if (s.samples == 0) return f.norm();
@@ -218,29 +237,15 @@ Vector3 limitProject(const LimitSurface& s, const Vector3& f, double cap) {
     if (!(size > cap)) return f;
     x = normal * (len * (1.0 - cap / size) / normal.norm());
   }
-  Vector3 grad;
-  Eigen::Matrix3d hess;
-  limitDerivatives(s, x, grad, hess);
-  Vector3 r = cap * grad + x - f;
-  const double small = 1e-15 * f.norm();
-  for (int it = 0; it < kNewtonSteps && r.norm() > small; ++it) {
-    const Vector3 step = -(cap * hess + Eigen::Matrix3d::Identity()).ldlt().solve(r);
-    bool shrank = false;
-    double t = 1.0;
-    for (int k = 0; k < kHalvings && !shrank; ++k, t *= 0.5) {
-      Vector3 gy;
-      Eigen::Matrix3d hy;
-      const Vector3 y = x + t * step;
-      limitDerivatives(s, y, gy, hy);
-      const Vector3 ry = cap * gy + y - f;
-      if (ry.norm() < r.norm()) {
-        shrank = true;
-        x = y, grad = gy, hess = hy, r = ry;
-      }
-    }
-    if (!shrank) break;
-  }
-  return cap * grad;  // f - x, on the surface by construction
+  auto residual = [&](const NewtonPoint& p) -> Vector3 { return cap * p.grad + p.x - f; };
+  NewtonPoint p;
+  p.x = x;
+  p.h = limitDerivatives(s, p.x, p.grad, p.hess);
+  p.r = residual(p);
+  newtonSolve(s, p, 1e-15 * f.norm(), residual, [&](const NewtonPoint& q) -> Vector3 {
+    return -(cap * q.hess + Eigen::Matrix3d::Identity()).ldlt().solve(q.r);
+  });
+  return cap * p.grad;  // f - x, on the surface by construction
 }
 
 }  // namespace igms
