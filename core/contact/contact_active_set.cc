@@ -37,7 +37,9 @@ void scaledFriction(const ContactGroup& g, Vector3& s, Vector3& w) {
 
 // The size of friction s in the scaled coordinates: mu N on the edge of the cone, the ellipsoid or the
 // patch's limit surface.
-double frictionSize(const ContactGroup& g, const Vector3& s) { return shaped(g) ? limitSize(g.surface, s) : s.norm(); }
+double frictionSize(const ContactGroup& g, const Vector3& s) {
+  return shaped(g) ? limitSize(g.surface, s, &g.surface_hint) : s.norm();
+}
 // The friction per mu N against slip w (w not 0): on the edge, opposite -w in the dissipation's sense.
 Vector3 againstSlip(const ContactGroup& g, const Vector3& w) { return shaped(g) ? limitGradient(g.surface, w) : w / w.norm(); }
 
@@ -253,7 +255,7 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
     // the round limit (994 of the 1,223 polishes that failed in puma_table's 8 s cycled in two rounds).
     if (g.sliding && tightLoad(g) < 0.0) continue;
     const double loose = cap * (1.0 + 1e-9) + 1e-15;
-    if (!g.sliding && (shaped(g) ? !limitInside(g.surface, s, loose) : s.norm() > loose)) {
+    if (!g.sliding && (shaped(g) ? !limitInside(g.surface, s, loose, &g.surface_hint) : s.norm() > loose)) {
       candidate((frictionSize(g, s) - cap) / g.friction_step + tolerance, m, P);
     } else if (g.sliding && s.dot(w) > tolerance * s.norm()) {
       candidate(s.dot(w) / s.norm(), m, P);  // slipping along its friction: it sticks instead
@@ -278,7 +280,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     Vector3 s = Vector3::Zero();
     for (int f = 0; f < F; ++f) s[f] = g.lambda[P + f] / scale[f];
     const double cap = g.mu * (g.patch ? N : std::max(g.lambda[0], 0.0));
-    g.sliding = cap > 0.0 && (shaped(g) ? !limitInside(g.surface, s, kInside * cap) : s.norm() >= kInside * cap);
+    g.sliding = cap > 0.0 && (shaped(g) ? !limitInside(g.surface, s, kInside * cap, &g.surface_hint) : s.norm() >= kInside * cap);
     std::fill(g.slide, g.slide + kMaxContactRows, 0.0);
     if (g.sliding) {
       const double size = frictionSize(g, s);

@@ -134,6 +134,7 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
     g.rows = g.points + (g.patch ? 3 : g.resists ? 5 : 2);
     g.mu = c0.friction;
     g.framed = false;
+    g.surface_hint.setZero();
     g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
     g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
     g.complete = false;

@@ -73,6 +73,10 @@ struct ContactGroup {
   ContactRowVector trial, trial_u;
   // A patch's limit surface (frame(), with its radius): the friction its sampled grid of points gives.
   LimitSurface surface;
+  // The normal its last solve on the surface found in this step (limit_surface.h's hint; zero at
+  // each step's start, so a step's answer depends only on the step). Mutable: a start for Newton's
+  // method, not the group's state; the answers agree with and without it to round-off.
+  mutable Vector3 surface_hint = Vector3::Zero();
 };
 
 // Whether g's friction is a patch's with a sampled limit surface (else a point's cone, or a patch's

@@ -63,7 +63,7 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
     const double cap = g.mu * N;
     if (shaped(g)) {
       const Vector3 scaled(f.x(), f.y(), f.z() / rad);
-      if (!limitInside(g.surface, scaled, cap)) f *= cap / limitSize(g.surface, scaled);
+      if (!limitInside(g.surface, scaled, cap, &g.surface_hint)) f *= cap / limitSize(g.surface, scaled, &g.surface_hint);
     } else {
       const double size = std::sqrt(f.x() * f.x() + f.y() * f.y() + (f.z() / rad) * (f.z() / rad));
       if (size > cap) f *= cap / size;
@@ -131,7 +131,8 @@ bool ContactSolver::anySliding() const {
     const double rad = g.patch && g.radius > 0.0 ? g.radius : 1.0;
     if (!(cap > 0.0)) continue;
     if (shaped(g)) {
-      if (!limitInside(g.surface, Vector3(g.lambda[P], g.lambda[P + 1], g.lambda[P + 2] / rad), (1.0 - 1e-9) * cap))
+      if (!limitInside(g.surface, Vector3(g.lambda[P], g.lambda[P + 1], g.lambda[P + 2] / rad), (1.0 - 1e-9) * cap,
+                       &g.surface_hint))
         return true;
       continue;
     }

@@ -70,9 +70,9 @@ void solvePatch(ContactGroup& g, ContactRowVector u) {
     const double rad = g.radius, cap = g.mu * N;
     const Vector3 scale(1.0, 1.0, rad);
     l = lam - g.friction_inverse * uf;
-    if (!limitInside(g.surface, l.cwiseQuotient(scale), cap)) {
+    if (!limitInside(g.surface, l.cwiseQuotient(scale), cap, &g.surface_hint)) {
       Vector3 s = lam.cwiseQuotient(scale) - g.friction_step * scale.cwiseProduct(uf);
-      l = scale.cwiseProduct(limitProject(g.surface, s, cap));
+      l = scale.cwiseProduct(limitProject(g.surface, s, cap, &g.surface_hint));
     }
   } else if (N > 0.0) {
     const double rad = g.radius;

@@ -49,11 +49,15 @@ double limitSupport(const LimitSurface& s, const Vector3& w);
 Vector3 limitGradient(const LimitSurface& s, const Vector3& w);
 // h(w) and its gradient and Hessian at w (w not 0).
 double limitDerivatives(const LimitSurface& s, const Vector3& w, Vector3& grad, Eigen::Matrix3d& hess);
-// The size of wrench f: the least t with f inside t times the surface (|f| for the ball).
-double limitSize(const LimitSurface& s, const Vector3& f);
+// The size of wrench f: the least t with f inside t times the surface (|f| for the ball). hint: as
+// limitInside's.
+double limitSize(const LimitSurface& s, const Vector3& f, Vector3* hint = nullptr);
 // Whether f is inside cap times the surface (its size at most cap), from the bounds where they tell.
-bool limitInside(const LimitSurface& s, const Vector3& f, double cap);
+// hint (optional): the surface normal the last solve on this patch found, in and out: Newton's method
+// starts from it (a patch's solves within one step are near each other: each then takes a step or
+// two), and the answer does not depend on it beyond round-off. Zero: no hint.
+bool limitInside(const LimitSurface& s, const Vector3& f, double cap, Vector3* hint = nullptr);
 // The point of cap times the surface nearest to f (f itself where it is inside).
-Vector3 limitProject(const LimitSurface& s, const Vector3& f, double cap);
+Vector3 limitProject(const LimitSurface& s, const Vector3& f, double cap, Vector3* hint = nullptr);
 
 }  // namespace igms

@@ -122,6 +122,55 @@ TEST(LimitSurface, AProjectionLandsOnTheSurfaceWhereItsNormalPointsBackAtTheWren
   }
 }
 
+TEST(LimitSurface, TheBoundsHoldInEveryDirectionAndAreNearlyReached) {
+  std::mt19937 rng(23);
+  for (const LimitSurface& s : {square(), triangle(), line()}) {
+    double least = 1e300, most = 0.0;
+    for (int k = 0; k < 100000; ++k) {
+      const Vector3 x = randomVector(rng);
+      const double h = limitSupport(s, x) / x.norm();  // the surface's distance along x's normal
+      EXPECT_GE(h, s.inner * (1.0 - 1e-12)) << "the inner ball is inside the surface";
+      EXPECT_LE(h, s.outer * (1.0 + 1e-12)) << "the surface is inside the outer ball";
+      least = std::min(least, h);
+      most = std::max(most, h);
+    }
+    std::printf("%d samples: inner bound %.4f, least %.4f; most %.4f, outer bound %.4f\n", s.samples, s.inner, least,
+                most, s.outer);
+    EXPECT_GT(s.inner, 0.5 * least) << "the inner bound is not far from the surface";
+    EXPECT_LT(s.outer, 1.15 * most) << "the outer is near it";
+  }
+}
+
+// A hint (the normal of a last solve) only starts Newton's method: right, near, random or opposite,
+// the answers are those without one, and the hint comes back as the answer's normal.
+TEST(LimitSurface, AHintChangesNothingButWhereNewtonStarts) {
+  std::mt19937 rng(29);
+  for (const LimitSurface& s : {square(), triangle(), line()}) {
+    for (int trial = 0; trial < 100; ++trial) {
+      const Vector3 f = randomVector(rng);
+      const double size = limitSize(s, f);
+      for (const double share : {1.01, 0.999, 0.9, 0.5, 0.1, 1e-3}) {  // just inside to far outside
+        const double cap = share * size;
+        const Vector3 plain = limitProject(s, f, cap);
+        Vector3 right = Vector3::Zero();
+        limitProject(s, f, cap, &right);
+        Vector3 near = right + 0.05 * right.norm() * randomVector(rng);
+        for (Vector3 hint : {right, near, randomVector(rng), Vector3(-right)}) {
+          if (share > 1.0) hint = randomVector(rng);  // inside: the projection leaves it alone
+          const Vector3 given = hint;
+          EXPECT_LT((limitProject(s, f, cap, &hint) - plain).norm(), 1e-12 * cap) << share;
+          if (share < 1.0)
+            EXPECT_LT((cap * limitGradient(s, hint) - plain).norm(), 1e-9 * cap) << "the answer's normal";
+          for (const double margin : {0.99, 1.01}) {
+            Vector3 again = given;
+            EXPECT_EQ(limitInside(s, f, margin * size, &again), limitInside(s, f, margin * size)) << margin;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(LimitSurface, WithoutSamplesItIsTheBallToTheBit) {
   const LimitSurface ball;
   std::mt19937 rng(17);
