@@ -57,7 +57,8 @@ double limitSize(const LimitSurface& s, const Vector3& f, Vector3* hint = nullpt
 // starts from it (a patch's solves within one step are near each other: each then takes a step or
 // two), and the answer does not depend on it beyond round-off. Zero: no hint.
 bool limitInside(const LimitSurface& s, const Vector3& f, double cap, Vector3* hint = nullptr);
-// The point of cap times the surface nearest to f (f itself where it is inside).
+// The point of cap times the surface nearest to f (f itself where it is inside). hint: as limitInside's
+// (out: the answer's normal where f is outside).
 Vector3 limitProject(const LimitSurface& s, const Vector3& f, double cap, Vector3* hint = nullptr);
 
 }  // namespace igms

@@ -18,7 +18,7 @@ struct ClientOptions {
   double deadline_us = 900.0;  // wait for this cycle's state at most this long after the cycle starts
   std::string fallback = "predict";
   double max_prediction_ms = 100.0;  // the predict policy's furthest step ahead of a state
-  double local_budget_us = 300.0;    // the local model's compute per cycle
+  double local_budget_us = 600.0;    // the local model's compute per cycle (ServoConfig's)
   bool no_passivity = false;         // turn the passivity controller off (to measure what it does)
   double passivity_tolerance_mj = 25.0;  // the energy balance may dip this far before the controller acts
   double lost_ms = 50.0;       // no new state for this long: the server is lost, forces ramp down

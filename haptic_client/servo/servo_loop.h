@@ -38,7 +38,10 @@ struct ServoConfig {
   double lost_ms = 50.0;       // no new state for this long: the server is lost, forces ramp down
   double duration = 0.0;       // s; 0: until the device's script ends (or forever)
   int client_id = 1;
-  double local_budget_us = 300.0;  // the local model's compute per cycle (sets how many steps it may take)
+  // The local model's compute per cycle (sets how many steps it may take): 600 µs, where 150 left the
+  // estimate of a slow slide over a 20 ms bus behind the tip and the felt force swinging by 1.2 N
+  // (docs/client.md), and the loop held 1000 Hz.
+  double local_budget_us = 600.0;
   bool passivity = true;           // the time-domain passivity controller at the device port
   double passivity_tolerance = 0.025;  // J the energy balance may dip before it acts
   // A device read that blocks longer than this (a plugin stuck on its driver): the device is held as
