@@ -71,7 +71,14 @@ ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
       cache_first_(static_cast<size_t>(capacity)),
       cache_count_(static_cast<size_t>(capacity)),
       cache_group_(kCachedCouplings),
-      cache_block_(kCachedCouplings) {}
+      cache_block_(kCachedCouplings),
+      block_inverse_(static_cast<size_t>(capacity)),
+      cg_rhs_(static_cast<Eigen::Index>(capacity) * kMaxContactRows),
+      cg_x_(cg_rhs_.size()),
+      cg_r_(cg_rhs_.size()),
+      cg_p_(cg_rhs_.size()),
+      cg_q_(cg_rhs_.size()),
+      cg_s_(cg_rhs_.size()) {}
 
 bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   const int ng = rows.size();
@@ -83,6 +90,8 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   bool all = true;
   rounds_ = 0;
   cycles_ = 0;
+  large_solves_ = 0;
+  cg_iterations_ = 0;
   slips_unturned_ = 0;
   slip_angle_ = 0.0;
   for (int seed = 0; seed < ng; ++seed) {
@@ -299,7 +308,6 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
         for (int r = 4; r < 6; ++r) g.slide[r] = g.roll_mu * g.lambda[r] / roll;
     }
   }
-  // An island too large for the dense solve, even as the sweeps left it, is left to them.
   int rows_guessed = 0;
   for (int m = 0; m < n; ++m) {
     const ContactGroup& g = group(m);
@@ -309,11 +317,14 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     if (active > 0 && g.resists)
       rows_guessed += (!g.spin_sliding && g.spin_mu > 0.0) + 2 * (!g.roll_sliding && g.roll_mu > 0.0);
   }
-  if (rows_guessed > kPolishRows) return false;
   // The island's couplings W_mh, each member's to each other it shares a tree with, formed once for
-  // all the rounds (a member past the cache's room forms its own each time it is needed).
+  // all the rounds (a member past the cache's room forms its own each time it is needed). An island
+  // too large for the dense solve forms none: its conjugate gradients take M's products as the sweeps do.
+  const bool dense = rows_guessed <= kPolishRows;
+  if (!dense)
+    for (int m = 0; m < n; ++m) cache_count_[static_cast<size_t>(m)] = -1;
   int cached = 0;
-  for (int m = 0; m < n; ++m) {
+  for (int m = 0; m < n && dense; ++m) {
     const ContactGroup& g = group(m);
     const int me = members_[static_cast<size_t>(m)];
     cache_first_[static_cast<size_t>(m)] = cached;
@@ -380,9 +391,15 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
           for (int r = 4; r < 6; ++r) g.unknown[r] = nx++;
       }
     }
-    if (nx > kPolishRows) return false;
     // M x = rhs: each unknown's row u_r = target_r (0 for friction), u = b + sum over the island of W lambda.
-    if (nx > 0) {
+    // Above kPolishRows unknowns, by conjugate gradients where nothing slips (else left to the sweeps).
+    const bool iterative = nx > kPolishRows;
+    if (iterative) {
+      for (int m = 0; m < n; ++m)
+        if (group(m).sliding || group(m).spin_sliding || group(m).roll_sliding) return false;
+      ++large_solves_;
+      if (!conjugateGradient(rows, n, nx, tolerance)) return false;
+    } else if (nx > 0) {
       auto M = M_.topLeftCorner(nx, nx);
       bool symmetric = true;  // no slipping friction: M is W's rows and columns of the unknowns
       auto assemble = [&] {
@@ -447,10 +464,11 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       ContactGroup& g = group(m);
       g.trial.setZero();
       double N = 0.0;
+      const double* const x = iterative ? cg_x_.data() : x_.data();
       for (int k = 0; k < g.points; ++k)
-        if (g.unknown[k] >= 0) N += g.trial[k] = x_[g.unknown[k]];
+        if (g.unknown[k] >= 0) N += g.trial[k] = x[g.unknown[k]];
       for (int r = g.points; r < g.rows; ++r)
-        g.trial[r] = g.unknown[r] >= 0 ? x_[g.unknown[r]] : (slidingRow(g, r) ? g.slide[r] * N : 0.0);
+        g.trial[r] = g.unknown[r] >= 0 ? x[g.unknown[r]] : (slidingRow(g, r) ? g.slide[r] * N : 0.0);
     }
     trialVelocities(rows, n);
     // Check every condition; change the guess of the one that breaks worst (one change a round:
@@ -512,6 +530,97 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       g.sliding = false;
       ++restuck_[static_cast<size_t>(worst_group)];
     }
+  }
+  return false;
+}
+
+// The tight rows' system M x = rhs of an island too large for the dense solve (a lattice of balls
+// touching on every side: 576 pairs, 1,728 unknowns), where nothing slips: M is symmetric, positive
+// definite with the dense solve's regularisation. Conjugate gradients, M's products formed through the
+// accumulator as the sweeps form velocities (no block of M is formed: a product costs what a sweep
+// does), preconditioned by each member's own block, from the sweeps' impulses; until the residual is
+// a hundredth of the tolerance, checked on M x formed afresh. The answer in cg_x_. \return converged.
+bool ContactActiveSet::conjugateGradient(ContactRows& rows, int n, int nx, double tolerance) {
+  constexpr int kIterations = 1000;
+  auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
+  const double small = 0.01 * tolerance;
+  // The regularisation the dense solve adds (sized by the contact and friction rows' diagonal).
+  double big = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = group(m);
+    for (int r = 0; r < (g.resists ? 3 : g.rows); ++r)
+      if (g.unknown[r] >= 0) big = std::max(big, std::abs(g.W(r, r)));
+  }
+  const double reg = 1e-12 * big + 1e-300;
+  // q = M p over the island: p's impulses into the accumulator, each unknown row's velocity out.
+  auto product = [&](const VectorX& p, VectorX& q) {
+    for (int m = 0; m < n; ++m) {
+      ContactGroup& g = group(m);
+      ContactRowVector l = ContactRowVector::Zero();
+      for (int r = 0; r < g.rows; ++r)
+        if (g.unknown[r] >= 0) l[r] = p[g.unknown[r]];
+      rows.add(g, l, g.rows, zt_);
+    }
+    for (int m = 0; m < n; ++m) {
+      const ContactGroup& g = group(m);
+      const ContactRowVector u = rows.velocity(g, zt_, g.rows);
+      for (int r = 0; r < g.rows; ++r)
+        if (g.unknown[r] >= 0) q[g.unknown[r]] = u[r] + reg * p[g.unknown[r]];
+    }
+    for (int m = 0; m < n; ++m) rows.clear(group(m), zt_);
+  };
+  // Each member's own block over its unknowns, inverted (the identity on its other rows), and the start.
+  for (int m = 0; m < n; ++m) {
+    const ContactGroup& g = group(m);
+    ContactBlock B = ContactBlock::Identity();
+    for (int r = 0; r < g.rows; ++r)
+      for (int c = 0; c < g.rows; ++c)
+        if (g.unknown[r] >= 0 && g.unknown[c] >= 0) B(r, c) = g.W(r, c) + (r == c ? reg : 0.0);
+    block_inverse_[static_cast<size_t>(m)] = B.llt().solve(ContactBlock::Identity());
+    for (int r = 0; r < g.rows; ++r)
+      if (g.unknown[r] >= 0) {
+        cg_rhs_[g.unknown[r]] = (r < g.points ? g.target[r] : 0.0) - g.b[r];
+        cg_x_[g.unknown[r]] = g.lambda[r];
+      }
+  }
+  auto precondition = [&](const VectorX& r, VectorX& z) {
+    for (int m = 0; m < n; ++m) {
+      const ContactGroup& g = group(m);
+      ContactRowVector v = ContactRowVector::Zero();
+      for (int k = 0; k < g.rows; ++k)
+        if (g.unknown[k] >= 0) v[k] = r[g.unknown[k]];
+      v = block_inverse_[static_cast<size_t>(m)] * v;
+      for (int k = 0; k < g.rows; ++k)
+        if (g.unknown[k] >= 0) z[g.unknown[k]] = v[k];
+    }
+  };
+  auto worst = [&](const VectorX& r) { return r.head(nx).cwiseAbs().maxCoeff(); };
+  product(cg_x_, cg_q_);
+  cg_r_.head(nx) = cg_rhs_.head(nx) - cg_q_.head(nx);
+  precondition(cg_r_, cg_s_);
+  cg_p_.head(nx) = cg_s_.head(nx);
+  double rs = cg_r_.head(nx).dot(cg_s_.head(nx));
+  for (int it = 0; it < kIterations; ++it) {
+    if (worst(cg_r_) <= small) {
+      // The recurrence's residual drifts from the true one: formed afresh, and on from there if it has.
+      product(cg_x_, cg_q_);
+      cg_r_.head(nx) = cg_rhs_.head(nx) - cg_q_.head(nx);
+      if (worst(cg_r_) <= small) return cg_x_.head(nx).allFinite();
+      precondition(cg_r_, cg_s_);
+      cg_p_.head(nx) = cg_s_.head(nx);
+      rs = cg_r_.head(nx).dot(cg_s_.head(nx));
+    }
+    product(cg_p_, cg_q_);
+    const double pq = cg_p_.head(nx).dot(cg_q_.head(nx));
+    if (!(pq > 0.0)) return false;
+    const double alpha = rs / pq;
+    cg_x_.head(nx) += alpha * cg_p_.head(nx);
+    cg_r_.head(nx) -= alpha * cg_q_.head(nx);
+    precondition(cg_r_, cg_s_);
+    const double rs_next = cg_r_.head(nx).dot(cg_s_.head(nx));
+    cg_p_.head(nx) = cg_s_.head(nx) + (rs_next / rs) * cg_p_.head(nx);
+    rs = rs_next;
+    ++cg_iterations_;
   }
   return false;
 }

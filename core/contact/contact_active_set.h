@@ -3,7 +3,8 @@
 // (touching normals, sticking frictions; a slipping friction is mu N along its direction) as one dense
 // linear system, kept when it meets every condition; where the answer breaks one, the worst broken
 // row's guess changes and the system is solved again. A stack's load reaches its bottom in one solve
-// where the sweeps need hundreds. Islands of more than kPolishRows unknowns are left to the sweeps.
+// where the sweeps need hundreds. An island of more than kPolishRows unknowns takes conjugate gradients
+// for its system where nothing in it slips, and is left to the sweeps where something does.
 #pragma once
 
 #include <cstdint>
@@ -35,10 +36,15 @@ class ContactActiveSet {
   // take the same two turns to the round limit but for the rules that break it).
   int cycles() const { return cycles_; }
   double slipAngle() const { return slip_angle_; }
+  // The last polish's solves of an island above kPolishRows unknowns (conjugate gradients), and their
+  // iterations (each costs about a sweep over the island).
+  int largeSolves() const { return large_solves_; }
+  int largeIterations() const { return cg_iterations_; }
 
  private:
   bool polishIsland(ContactRows& rows, int n, double tolerance);  // members_[0 .. n): one island
   bool luSolve(int nx);
+  bool conjugateGradient(ContactRows& rows, int n, int nx, double tolerance);
   ContactGroup& member(ContactRows& rows, int m) { return rows.group(members_[static_cast<size_t>(m)]); }
   template <typename Visit>
   void forEachCoupled(ContactRows& rows, int m, Visit&& visit);
@@ -70,6 +76,11 @@ class ContactActiveSet {
   static constexpr int kCachedCouplings = 2048;
   std::vector<int> cache_first_, cache_count_, cache_group_;
   std::vector<ContactBlock> cache_block_;
+  // conjugateGradient(): per member its own block's inverse, and the vectors over the unknowns.
+  std::vector<ContactBlock> block_inverse_;
+  VectorX cg_rhs_, cg_x_, cg_r_, cg_p_, cg_q_, cg_s_;
+  int large_solves_ = 0;
+  int cg_iterations_ = 0;
 };
 
 }  // namespace igms

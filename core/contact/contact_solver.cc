@@ -169,6 +169,8 @@ bool ContactSolver::solveImpulses() {
       stats_.polish_rounds += active_.rounds();
       stats_.slips_unturned += active_.slipsUnturned();
       stats_.polish_cycles += active_.cycles();
+      stats_.large_solves += active_.largeSolves();
+      stats_.large_iterations += active_.largeIterations();
       stats_.slip_angle = std::max(stats_.slip_angle, active_.slipAngle());
       if (exact) {
         converged = true;  // every condition checked, to the tolerance

@@ -56,6 +56,8 @@ struct ContactSolveStats {
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit, since the start
   int64_t energy_capped = 0;   // solves whose impulses, still adding energy, were scaled down (capEnergy), since the start
   int64_t polish_cycles = 0;   // active-set islands whose guess came back to the one two rounds before, since the start
+  int64_t large_solves = 0;      // active-set islands above its dense solve's size solved by conjugate gradients,
+  int64_t large_iterations = 0;  // and their iterations (each about a sweep's cost), since the start
   int64_t slips_unturned = 0;  // active-set answers whose slipping friction could not be turned against its slip
                                // (kept along the sweeps' direction), since the start (contact_active_set.h)
   double slip_angle = 0.0;     // rad: the last solve's largest angle between a slipping friction the active set

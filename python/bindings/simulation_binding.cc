@@ -167,6 +167,8 @@ class PySimulation {
     solve.position_unconverged = s.position_unconverged;
     solve.slips_unturned = s.slips_unturned;
     solve.polish_cycles = s.polish_cycles;
+    solve.large_solves = s.large_solves;
+    solve.large_iterations = s.large_iterations;
     solve.max_slip_angle = tally_.max_slip_angle;
     d["contact_solve"] = solveFigures(solve);
     nb::dict poses;

@@ -21,6 +21,8 @@ inline nanobind::dict solveFigures(const ScenarioSolveStats& s) {
   d["position_unconverged"] = s.position_unconverged;
   d["slips_unturned"] = s.slips_unturned;
   d["polish_cycles"] = s.polish_cycles;
+  d["large_solves"] = s.large_solves;
+  d["large_iterations"] = s.large_iterations;
   d["max_slip_angle"] = s.max_slip_angle;
   return d;
 }

@@ -30,7 +30,7 @@ if [[ ${1:-} == --contact ]]; then
   shift
   configure_peers
   cmake --build build-peers --target igms-contact-bench igms-dyn >/dev/null
-  scenes=(go1_stand talos_stand box_slope box_slide box_tower box_pyramid sphere_pile)
+  scenes=(go1_stand talos_stand box_slope box_slide box_tower box_pyramid sphere_pile ball_lattice)
   args=()
   for s in "${scenes[@]}"; do args+=(--scene "scenes/$s.yaml"); done
   # Dense piles of 27, 216, 512 and 1000 spheres (columns 1 mm apart: every neighbour inside the margin).

@@ -221,6 +221,20 @@ TEST(Environment, TheStepAllocatesNothingWithContact) {
   }
 }
 
+TEST(Environment, TheStepAllocatesNothingSolvingALargeIsland) {
+  // ball_lattice: one island of 1,728 unknowns, solved by conjugate gradients in its first step
+  // (contact_active_set.h); after a reset, again.
+  Simulation sim(shipped("ball_lattice.yaml"));
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+  sim.reset();
+  const int64_t before = sim.contactStats().large_solves;
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 20; ++k) sim.step(nullptr);
+  });
+  EXPECT_EQ(n, 0u);
+  EXPECT_GT(sim.contactStats().large_solves, before) << "the window took conjugate gradients";
+}
+
 TEST(Environment, TheStepAllocatesNothingWhileSlipsAreTurned) {
   // puma_table's arm shoving its boxes for 8 s: thousands of active-set answers whose slipping
   // friction Newton's method turns against its slip (contact_active_set.h), a few it cannot.

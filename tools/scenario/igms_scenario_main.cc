@@ -43,6 +43,8 @@ nlohmann::json toJson(const igms::ScenarioResult& r) {
                         {"candidates_dropped", r.solve.candidates_dropped},
                         {"slips_unturned", r.solve.slips_unturned},
                         {"polish_cycles", r.solve.polish_cycles},
+                        {"large_solves", r.solve.large_solves},
+                        {"large_iterations", r.solve.large_iterations},
                         {"max_slip_angle", r.solve.max_slip_angle}}},
                       {"bodies", nlohmann::json::object()},
                       {"interactions", nlohmann::json::array()}};

@@ -111,6 +111,8 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     out.solve.energy_capped = solve.energy_capped;
     out.solve.slips_unturned = solve.slips_unturned;
     out.solve.polish_cycles = solve.polish_cycles;
+    out.solve.large_solves = solve.large_solves;
+    out.solve.large_iterations = solve.large_iterations;
     out.solve.position_unconverged = solve.position_unconverged;
     if (const ContactDetection* d = sim.contactDetection()) {
       out.solve.near_rebuilds = d->nearRebuilds();

@@ -42,6 +42,8 @@ struct ScenarioSolveStats {
   int64_t candidates_dropped = 0;   // candidate pairs beyond the detection's buffers (contacts missed)
   int64_t polish_cycles = 0;        // active-set islands whose guess came back to the one two rounds before
   int64_t slips_unturned = 0;       // active-set answers whose slipping friction kept the sweeps' direction
+  int64_t large_solves = 0;         // active-set islands too large for the dense solve, by conjugate gradients
+  int64_t large_iterations = 0;     // and their iterations
   double max_slip_angle = 0.0;      // rad, the largest angle an active-set answer left between a slipping
                                     // friction and the reverse of its slip
 };
