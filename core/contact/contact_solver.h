@@ -62,7 +62,8 @@ struct ContactSolveStats {
                                // (kept along the sweeps' direction), since the start (contact_active_set.h)
   double slip_angle = 0.0;     // rad: the last solve's largest angle between a slipping friction the active set
                                // fixed and the reverse of its slip
-  double residual = 0.0;       // m/s: the largest velocity change of its last sweep
+  double residual = 0.0;       // m/s: the largest velocity change of its last sweep (at least, where pairs were
+                               // let in after the sweeps were spent, the fastest of them crossing)
   int64_t unconverged = 0;     // solves that stopped at the sweep limit, since the start
   int64_t solves = 0;          // velocity solves (steps with contacts), since the start
 };

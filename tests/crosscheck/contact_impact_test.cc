@@ -142,6 +142,26 @@ TEST(ContactImpact, APairStruckAcrossItsGapIsLetInWithinTheStep) {
   EXPECT_NEAR(a.v.x() + b.v.x() + c.v.x(), 4.0, 1e-9) << "momentum";
 }
 
+// The same blow with two sweeps allowed: they and the exact solve settle a and b (2 m/s each), the
+// pair b-c let in after them gets none, and the solve is unconverged. Its residual says how far off
+// it is, b crossing into c at 2 m/s against a gap the step closes at 1 m/s: 1 m/s, not the 0 it read
+// when the pass that let the pair in ran no sweep.
+TEST(ContactImpact, ASolveThatStopsWithAPairLetInReportsItsCrossing) {
+  Simulation sim(sceneText(
+      "gravity: [0, 0, 0]\nsimulation: {dt: 0.001}\ncontact: {iterations: 2}\n"
+      "materials: {m: {friction: 0.0, restitution: 0.0}}\nbodies:\n"
+      "  - {name: a, shape: sphere, radius: 0.05, mass: 1, xyz: [-0.1, 0, 0], v: [4, 0, 0], material: m}\n"
+      "  - {name: b, shape: sphere, radius: 0.05, mass: 1, xyz: [0, 0, 0], material: m}\n"
+      "  - {name: c, shape: sphere, radius: 0.05, mass: 1, xyz: [0.101, 0, 0], material: m}\n"));
+  ASSERT_TRUE(sim.step(nullptr)) << sim.divergenceReport();
+  const ContactSolveStats& s = sim.contactStats();
+  std::printf("two sweeps, a pair let in: let in %lld, unconverged %lld, residual %.3e m/s\n",
+              static_cast<long long>(s.let_in), static_cast<long long>(s.unconverged), s.residual);
+  ASSERT_GE(s.let_in, 1);
+  ASSERT_EQ(s.unconverged, 1);
+  EXPECT_NEAR(s.residual, 1.0, 1e-6) << "the crossing the solve left";
+}
+
 // Two balls in at 1 m/s against three at rest, all touching: the last two leave, the first three stay.
 TEST(ContactImpact, TwoBallsInSendTwoBallsOut) {
   std::string y = "gravity: [0, 0, 0]\nmaterials: {steel: {friction: 0.0, restitution: 1.0}}\nbodies:\n";
