@@ -460,11 +460,11 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       if (!x_.head(nx).allFinite()) return false;
     }
     // The candidate impulses, then the velocities they give.
+    const double* const x = iterative ? cg_x_.data() : x_.data();
     for (int m = 0; m < n; ++m) {
       ContactGroup& g = group(m);
       g.trial.setZero();
       double N = 0.0;
-      const double* const x = iterative ? cg_x_.data() : x_.data();
       for (int k = 0; k < g.points; ++k)
         if (g.unknown[k] >= 0) N += g.trial[k] = x[g.unknown[k]];
       for (int r = g.points; r < g.rows; ++r)
@@ -552,20 +552,23 @@ bool ContactActiveSet::conjugateGradient(ContactRows& rows, int n, int nx, doubl
       if (g.unknown[r] >= 0) big = std::max(big, std::abs(g.W(r, r)));
   }
   const double reg = 1e-12 * big + 1e-300;
+  // A member's rows of a vector over the unknowns (0 on its other rows), and back.
+  auto gather = [](const ContactGroup& g, const VectorX& x) {
+    ContactRowVector l = ContactRowVector::Zero();
+    for (int r = 0; r < g.rows; ++r)
+      if (g.unknown[r] >= 0) l[r] = x[g.unknown[r]];
+    return l;
+  };
+  auto scatter = [](const ContactGroup& g, const ContactRowVector& l, VectorX& x) {
+    for (int r = 0; r < g.rows; ++r)
+      if (g.unknown[r] >= 0) x[g.unknown[r]] = l[r];
+  };
   // q = M p over the island: p's impulses into the accumulator, each unknown row's velocity out.
   auto product = [&](const VectorX& p, VectorX& q) {
-    for (int m = 0; m < n; ++m) {
-      ContactGroup& g = group(m);
-      ContactRowVector l = ContactRowVector::Zero();
-      for (int r = 0; r < g.rows; ++r)
-        if (g.unknown[r] >= 0) l[r] = p[g.unknown[r]];
-      rows.add(g, l, g.rows, zt_);
-    }
+    for (int m = 0; m < n; ++m) rows.add(group(m), gather(group(m), p), group(m).rows, zt_);
     for (int m = 0; m < n; ++m) {
       const ContactGroup& g = group(m);
-      const ContactRowVector u = rows.velocity(g, zt_, g.rows);
-      for (int r = 0; r < g.rows; ++r)
-        if (g.unknown[r] >= 0) q[g.unknown[r]] = u[r] + reg * p[g.unknown[r]];
+      scatter(g, rows.velocity(g, zt_, g.rows) + reg * gather(g, p), q);
     }
     for (int m = 0; m < n; ++m) rows.clear(group(m), zt_);
   };
@@ -584,43 +587,39 @@ bool ContactActiveSet::conjugateGradient(ContactRows& rows, int n, int nx, doubl
       }
   }
   auto precondition = [&](const VectorX& r, VectorX& z) {
-    for (int m = 0; m < n; ++m) {
-      const ContactGroup& g = group(m);
-      ContactRowVector v = ContactRowVector::Zero();
-      for (int k = 0; k < g.rows; ++k)
-        if (g.unknown[k] >= 0) v[k] = r[g.unknown[k]];
-      v = block_inverse_[static_cast<size_t>(m)] * v;
-      for (int k = 0; k < g.rows; ++k)
-        if (g.unknown[k] >= 0) z[g.unknown[k]] = v[k];
-    }
+    for (int m = 0; m < n; ++m)
+      scatter(group(m), block_inverse_[static_cast<size_t>(m)] * gather(group(m), r), z);
   };
   auto worst = [&](const VectorX& r) { return r.head(nx).cwiseAbs().maxCoeff(); };
-  product(cg_x_, cg_q_);
-  cg_r_.head(nx) = cg_rhs_.head(nx) - cg_q_.head(nx);
-  precondition(cg_r_, cg_s_);
-  cg_p_.head(nx) = cg_s_.head(nx);
-  double rs = cg_r_.head(nx).dot(cg_s_.head(nx));
+  // The residual formed afresh (the recurrence's drifts from it), p restarted along it; whether it is
+  // small.
+  double rs = 0.0;
+  auto restart = [&] {
+    product(cg_x_, cg_q_);
+    cg_r_.head(nx) = cg_rhs_.head(nx) - cg_q_.head(nx);
+    if (worst(cg_r_) <= small) return true;
+    precondition(cg_r_, cg_s_);
+    cg_p_.head(nx) = cg_s_.head(nx);
+    rs = cg_r_.head(nx).dot(cg_s_.head(nx));
+    return false;
+  };
+  if (restart()) return cg_x_.head(nx).allFinite();
   for (int it = 0; it < kIterations; ++it) {
-    if (worst(cg_r_) <= small) {
-      // The recurrence's residual drifts from the true one: formed afresh, and on from there if it has.
-      product(cg_x_, cg_q_);
-      cg_r_.head(nx) = cg_rhs_.head(nx) - cg_q_.head(nx);
-      if (worst(cg_r_) <= small) return cg_x_.head(nx).allFinite();
-      precondition(cg_r_, cg_s_);
-      cg_p_.head(nx) = cg_s_.head(nx);
-      rs = cg_r_.head(nx).dot(cg_s_.head(nx));
-    }
     product(cg_p_, cg_q_);
     const double pq = cg_p_.head(nx).dot(cg_q_.head(nx));
     if (!(pq > 0.0)) return false;
     const double alpha = rs / pq;
     cg_x_.head(nx) += alpha * cg_p_.head(nx);
     cg_r_.head(nx) -= alpha * cg_q_.head(nx);
+    ++cg_iterations_;
+    if (worst(cg_r_) <= small) {
+      if (restart()) return cg_x_.head(nx).allFinite();
+      continue;
+    }
     precondition(cg_r_, cg_s_);
     const double rs_next = cg_r_.head(nx).dot(cg_s_.head(nx));
     cg_p_.head(nx) = cg_s_.head(nx) + (rs_next / rs) * cg_p_.head(nx);
     rs = rs_next;
-    ++cg_iterations_;
   }
   return false;
 }

@@ -348,6 +348,7 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
     if (stats_.deferred == 0) break;
     // A waiting pair whose end gap the solve's v+ closes comes in (all of them after kLetIn tries).
     int let_in = 0;
+    crossing = 0.0;
     rows_.twists(v, twist_);
     for (int g = 0; g < ng; ++g) {
       ContactGroup& G = rows_.group(g);
