@@ -40,8 +40,8 @@ def scene_with(k, b, out):
 def run_point(args, k, b, delay):
     name = f"k{k:g}_b{b:g}"
     case = {"name": name, "scene": scene_with(k, b, args.out), "scripts": {"hand": "box_push_hand.yaml"}}
-    s, log = haptic_truth.over_bus(args.build, case, "hand", delay, args.out, args.port,
-                                   client_args=["--no-passivity"], return_log=True)
+    s, log, _ = haptic_truth.over_bus(args.build, case, "hand", delay, args.out, args.port,
+                                      client_args=["--no-passivity"], return_log=True)
     m = re.search(r"lowest energy balance ([-\d.]+) J", log)
     lowest = float(m.group(1)) if m else float("nan")
     fx = -s["force"][:, 0]
