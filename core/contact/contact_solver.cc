@@ -279,6 +279,15 @@ void ContactSolver::capEnergy() {
 
 void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, const VectorX& v0, ContactSet& contacts,
                           VectorX& v, VectorX& v_position) {
+  // The figures of this step's solve (all 0 on a step without contacts: none ran).
+  stats_.iterations = 0;
+  stats_.residual = 0.0;
+  stats_.polish_rounds = 0;
+  stats_.slip_angle = 0.0;
+  stats_.deferred = 0;
+  stats_.impact_rounds = 0;
+  stats_.position_sweeps = 0;
+  stats_.position_residual = 0.0;
   if (contacts.n == 0) {
     previous_n_ = 0;
     v_position = v;
@@ -289,7 +298,6 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   // Pairs apart and not closing, with no impulse from the last step, wait outside the solve (a pile's
   // neighbours a millimetre apart inside the margin: most of its pairs); each is checked against the
   // solve's v+ and let in if the others' impulses push it across.
-  stats_.deferred = 0;
   for (int g = 0; g < ng; ++g) {
     ContactGroup& G = rows_.group(g);
     if (G.lambda.isZero(0.0) && (!G.built || rows_.separating(G, contacts, h))) {
@@ -299,17 +307,12 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
     rows_.complete(g, LD, v);
   }
   v_free_ = v;
-  stats_.iterations = 0;
-  stats_.residual = 0.0;
-  stats_.polish_rounds = 0;
-  stats_.slip_angle = 0.0;
   restitution_scale_ = 1.0;
   bool bounces = false;
   for (int g = 0; g < ng && !bounces; ++g)
     for (int k = 0; rows_.group(g).built && k < rows_.group(g).points; ++k) bounces = bounces || rows_.group(g).bounce[k];
   // Impacts that can pass along a chain are passed along first, pair by pair (contact_impacts.h); the
   // solve then starts from the velocity they leave, its contacts plastic.
-  stats_.impact_rounds = 0;
   if (bounces && impactsCanPass(rows_)) {
     for (int g = 0; g < ng; ++g)  // a pair waiting outside may be struck: all of them in
       if (!rows_.group(g).complete) rows_.complete(g, LD, v);
@@ -395,8 +398,6 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
     }
   }
   v_position = v;
-  stats_.position_sweeps = 0;
-  stats_.position_residual = 0.0;
   if (!any) return;
   const SweepResult pseudo = sweepPseudo(rows_, zs_, settings_.iterations, settings_.tolerance);
   stats_.position_sweeps = pseudo.sweeps;

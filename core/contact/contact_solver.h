@@ -43,6 +43,8 @@
 
 namespace igms {
 
+// "The last solve" is the last step's: its figures read 0 after a step without contacts, where no solve ran.
+// The counts "since the start" only grow.
 struct ContactSolveStats {
   int iterations = 0;          // sweeps of the last solve
   int polish_rounds = 0;       // the active-set solve's dense solves in the last solve

@@ -273,6 +273,40 @@ TEST(Environment, TheStepAllocatesNothingThroughChainedImpactsAndResistance) {
   EXPECT_GT(passed, 0) << "the blow was passed along within the steps measured";
 }
 
+TEST(Environment, AStepWithoutContactsReportsNoSolve) {
+  // A ball bouncing on the floor (e = 1): each step it is clear of the floor, the last solve's figures
+  // must not stand as the step's (the CSV, the server's status and Python read them per step).
+  Simulation sim(parseScene(
+      "ground: {height: 0, material: floor}\n"
+      "materials: {steel: {friction: 0.5, restitution: 1.0}, floor: {friction: 0.5}}\n"
+      "bodies:\n"
+      "  - {name: ball, shape: sphere, radius: 0.05, mass: 1, xyz: [0, 0, 0.1], material: steel}\n",
+      "bounce.yaml", test::sourceDir() + "/scenes"));
+  int solved = 0, cleared = 0;
+  bool touched = false;
+  for (int k = 0; k < 1000; ++k) {
+    ASSERT_TRUE(sim.step(nullptr));
+    const ContactSolveStats& s = sim.contactStats();
+    if (sim.contacts().n > 0) {
+      solved += s.iterations > 0;
+      touched = true;
+      continue;
+    }
+    cleared += touched;
+    touched = false;
+    ASSERT_EQ(s.iterations, 0) << "step " << k;
+    ASSERT_EQ(s.residual, 0.0) << "step " << k;
+    ASSERT_EQ(s.polish_rounds, 0) << "step " << k;
+    ASSERT_EQ(s.deferred, 0) << "step " << k;
+    ASSERT_EQ(s.impact_rounds, 0) << "step " << k;
+    ASSERT_EQ(s.position_sweeps, 0) << "step " << k;
+    ASSERT_EQ(s.position_residual, 0.0) << "step " << k;
+    ASSERT_EQ(s.slip_angle, 0.0) << "step " << k;
+  }
+  EXPECT_GT(solved, 0) << "the ball met the floor";
+  EXPECT_GE(cleared, 2) << "and left it again";
+}
+
 TEST(Environment, TheSameSceneGivesTheSameBits) {
   Simulation a(shipped("puma_table.yaml")), b(shipped("puma_table.yaml"));
   for (int k = 0; k < 3000; ++k) {
