@@ -195,7 +195,7 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
   // Before any thread starts, so that every thread inherits it: a servo loop on SCHED_FIFO whose
   // bus thread an ordinary load can hold back still renders against late states.
   if (o.rt_priority > 0) requestRealtimeAndSay("igms-haptic", "every thread", o.rt_priority);
-  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.client_id, key, o.accept_replay);
+  ClientBus bus(o.lcm_url, nlinks, model.nq, model.nv, o.servo.client_id, key, o.accept_replay);
   if (!bus.good()) {
     std::fprintf(stderr, "igms-haptic: cannot open LCM at %s\n", o.lcm_url.c_str());
     return 2;
@@ -211,11 +211,12 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     return 2;
   }
   // The scene's load checked the coupling at its own rate; the servo loop may run slower.
-  if (resolved.scene.push.enabled && resolved.scene.push.b < couplingMinDamping(resolved.scene, o.rate_hz)) {
+  const double rate = o.servo.rate_hz;
+  if (resolved.scene.push.enabled && resolved.scene.push.b < couplingMinDamping(resolved.scene, rate)) {
     std::fprintf(stderr,
                  "igms-haptic: %s: interaction.coupling.b %.3g N s/m is below k T / 2 = %.3g N s/m at --rate %.0f Hz: "
                  "the coupling would not be passive (raise the damper or the rate)\n",
-                 o.scene_path.c_str(), resolved.scene.push.b, couplingMinDamping(resolved.scene, o.rate_hz), o.rate_hz);
+                 o.scene_path.c_str(), resolved.scene.push.b, couplingMinDamping(resolved.scene, rate), rate);
     return 2;
   }
   const auto* scripted = dynamic_cast<const ScriptedDevice*>(device.get());
@@ -224,19 +225,18 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     return 2;
   }
   static ServoStats stats;  // large (histograms): static storage, one client per process
-  ClientStatusThread status(bus, stats, *device, ClientIdentity{o.client_id, device->name(), fallbackName(policy), o.lost_ms});
+  ClientStatusThread status(bus, stats, *device,
+                            ClientIdentity{o.servo.client_id, device->name(), fallbackName(policy), o.servo.lost_ms});
   if (const int code = connect(bus, model, o, stop)) return code == kStoppedWaiting ? 0 : code;
   if (!o.quiet)
     std::fprintf(stderr, "igms-haptic: %s on %s, %.0f Hz, deadline %.0f us, fallback %s\n", device->name().c_str(),
-                 o.scene_path.c_str(), o.rate_hz, o.deadline_us, fallbackName(policy));
-  if (!o.quiet) printLimits(device->limits(), resolved.scene, o.rate_hz);
+                 o.scene_path.c_str(), rate, o.servo.deadline_us, fallbackName(policy));
+  if (!o.quiet) printLimits(device->limits(), resolved.scene, rate);
   // The record's rows, allocated now: the run's cycles (a duration, or a script's end), else 10 minutes'.
-  const double record_s = o.duration > 0 ? o.duration : scripted ? scripted->endTime() : 600.0;
-  ServoRecord record(o.record.empty() ? 0 : static_cast<int64_t>(record_s * o.rate_hz) + 2);
+  const double record_s = o.servo.duration > 0 ? o.servo.duration : scripted ? scripted->endTime() : 600.0;
+  ServoRecord record(o.record.empty() ? 0 : static_cast<int64_t>(record_s * rate) + 2);
   ServoLoop loop(resolved, *device, bus, estimate, links, stats,
-                 ServoConfig{o.rate_hz, o.deadline_us, o.lost_ms, o.duration, o.client_id, o.local_budget_us, !o.no_passivity,
-                             o.passivity_tolerance_mj * 1e-3},
-                 &record);
+                 o.servo, &record);
   const double wall = loop.run(stop);
   stats.finished = true;
   std::this_thread::sleep_for(std::chrono::milliseconds(150));  // one more status

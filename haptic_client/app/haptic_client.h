@@ -8,22 +8,17 @@
 #include <atomic>
 #include <string>
 
+#include "haptic_client/servo/servo_loop.h"
+
 namespace igms {
 
 struct ClientOptions {
   std::string scene_path;
   std::string device;          // NAME[:ARGS], e.g. "scripted:FILE"
   std::string lcm_url;
-  double rate_hz = 1000.0;
-  double deadline_us = 900.0;  // wait for this cycle's state at most this long after the cycle starts
   std::string fallback = "predict";
   double max_prediction_ms = 100.0;  // the predict policy's furthest step ahead of a state
-  double local_budget_us = 600.0;    // the local model's compute per cycle (ServoConfig's)
-  bool no_passivity = false;         // turn the passivity controller off (to measure what it does)
-  double passivity_tolerance_mj = 25.0;  // the energy balance may dip this far before the controller acts
-  double lost_ms = 50.0;       // no new state for this long: the server is lost, forces ramp down
-  int client_id = 1;
-  double duration = 0.0;       // s; 0: until the device's script ends (or forever)
+  ServoConfig servo;           // the loop's rate, deadline, duration, id, local budget, passivity
   double connect_timeout = 10.0;  // s to wait for the server's first status
   bool quiet = false;
   int rt_priority = 0;         // > 0: the servo loop asks for SCHED_FIFO at this priority and locks memory

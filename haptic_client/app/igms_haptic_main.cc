@@ -18,8 +18,8 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", o.lcm_url, "LCM URL (default udpm://239.255.76.67:7667?ttl=0)")->check(igms::cli::LcmUrl);
   app.add_option("--key-file", o.key_file, igms::bus::kKeyFileHelp)->envname(igms::bus::kKeyFileEnv);
   app.add_flag("--accept-replay", o.accept_replay, igms::bus::kAcceptReplayHelp);
-  app.add_option("--rate", o.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
-  app.add_option("--deadline-us", o.deadline_us,
+  app.add_option("--rate", o.servo.rate_hz, "servo rate")->check(igms::cli::positive("HZ"));
+  app.add_option("--deadline-us", o.servo.deadline_us,
                  "while replies come back within this long, wait this long for this cycle's")
       ->check(igms::cli::positive("US"));
   app.add_option("--fallback", o.fallback,
@@ -28,19 +28,21 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"predict", "hold", "extrapolate", "interpolate"}));
   app.add_option("--max-prediction-ms", o.max_prediction_ms, "predict at most this far ahead of a state")
       ->check(igms::cli::nonNegative("MS"));
-  app.add_option("--local-budget-us", o.local_budget_us,
+  app.add_option("--local-budget-us", o.servo.local_budget_us,
                  "predict: the local model's compute per cycle (its steps are timed at start to fit it, and a run stops "
                  "stepping once it has taken it)")
       ->check(igms::cli::positive("US"));
-  app.add_flag("--no-passivity", o.no_passivity,
+  bool no_passivity = false;
+  double passivity_tolerance_mj = o.servo.passivity_tolerance * 1e3;
+  app.add_flag("--no-passivity", no_passivity,
                "turn the time-domain passivity controller off (its observer still reports the energy balance)");
-  app.add_option("--passivity-tolerance-mj", o.passivity_tolerance_mj,
+  app.add_option("--passivity-tolerance-mj", passivity_tolerance_mj,
                  "how far the energy balance may dip (the robot handing back its own motion) before it acts")
       ->check(igms::cli::nonNegative("MJ"));
-  app.add_option("--lost-ms", o.lost_ms, "no new state for this long: the server is lost, forces ramp down")
+  app.add_option("--lost-ms", o.servo.lost_ms, "no new state for this long: the server is lost, forces ramp down")
       ->check(igms::cli::positive("MS"));
-  app.add_option("--client-id", o.client_id, "this client's id in its inputs");
-  app.add_option("--duration", o.duration, "seconds to run (0: until the device's script ends)")
+  app.add_option("--client-id", o.servo.client_id, "this client's id in its inputs");
+  app.add_option("--duration", o.servo.duration, "seconds to run (0: until the device's script ends)")
       ->check(igms::cli::Seconds);
   app.add_option("--connect-timeout", o.connect_timeout, "seconds to wait for the server's first status")
       ->check(igms::cli::positive("SECONDS"));
@@ -56,5 +58,7 @@ int main(int argc, char** argv) {
                  "status) and lock memory; a warning and a normal process when not allowed (0: do not ask)")
       ->check(CLI::Range(0, 99));
   if (const int code = igms::cli::parse(app, argc, argv); code >= 0) return code;
+  o.servo.passivity = !no_passivity;
+  o.servo.passivity_tolerance = passivity_tolerance_mj * 1e-3;
   return igms::runClient(o, igms::stopOnSignals());
 }

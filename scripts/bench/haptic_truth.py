@@ -88,7 +88,8 @@ def machine_disturbed(r, delay):
     server's states stopped for over STALL_MS beyond the path's delay (SIGSTOP-like), or the hypervisor took
     over STEAL of the CPU time while it ran; None when neither."""
     if r.get("oldest_state_ms") is not None and r["oldest_state_ms"] > delay + STALL_MS:
-        return f"the server's states stopped {r['oldest_state_ms']:.1f} ms (a stall of the machine)"
+        return (f"the server's states stopped {r['oldest_state_ms']:.1f} ms (a stall of the machine; steal "
+                f"{r.get('steal', 0.0) * 100:.1f} %)")
     if r.get("steal", 0.0) > STEAL:
         return f"the hypervisor took {r['steal'] * 100:.0f} % of the CPU time (steal)"
     return None

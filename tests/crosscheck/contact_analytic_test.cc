@@ -373,9 +373,9 @@ PlateRun gridSlide(int K, double a, double mu, double v0, double w0, const Plate
     double fx = 0.0, fy = 0.0, tz = 0.0;
     const double c = std::cos(s[4]), sn = std::sin(s[4]);
     if (push && interval < push->fx.size()) {
-      const double px_ = push->fx[interval], py_ = push->fy[interval];
+      const double pushx = push->fx[interval], pushy = push->fy[interval];
       const double rx = c * push->rx - sn * push->ry, ry = sn * push->rx + c * push->ry;
-      fx += px_, fy += py_, tz += rx * py_ - ry * px_;
+      fx += pushx, fy += pushy, tz += rx * pushy - ry * pushx;
     }
     for (int i = 0; i < n; ++i) {
       const double rx = c * px[static_cast<size_t>(i)] - sn * py[static_cast<size_t>(i)];
