@@ -211,7 +211,7 @@ def main():
         for hand in args.hands.split(","):
             for delay in delays:
                 where = "in-process" if delay is None else f"bus {delay} ms"
-                log = None
+
                 def run_once():
                     if delay is None:
                         return measure(case, in_process(build, case, hand, args.out)), None
