@@ -100,6 +100,7 @@ class ContactSolver {
   VectorX v_free_;  // the solve's input, kept to solve again when a pair left out is let in
   std::vector<Motion> twist_;  // the bodies' twists under v+, for the pairs left out without rows
   double restitution_scale_ = 1.0;  // the factor keepEnergy() took, for the bounce's position
+  std::vector<double> share_;  // per group: the overlap it shares with opposed facings (scratch)
   // The last step's contacts, for the warm start: pair, point, normal impulse; and per pair its
   // friction (world force at the centroid, torsion about the normal).
   struct Previous {

@@ -584,6 +584,48 @@ TEST(ContactAnalytic, ALogPileStandsOnlyWithTheFrictionStaticsNeeds) {
   EXPECT_LT(at_06, 1e-9);
 }
 
+TEST(ContactAnalytic, APegPressedBetweenTwoWallsComesToRestCentred) {
+  // A box peg 0.4 mm wider than the slot it is dropped into, so each wall overlaps it by 0.2 mm: no
+  // motion closes both overlaps. Slot between two fixed blocks (two shapes of the world), and inside a
+  // U channel that is itself a free body on the ground (two free bodies: one pair, two facings). The
+  // position correction once tried to close both: it stopped at its sweep limit on every step (the
+  // blocks) and pushed the peg 0.42 mm into one block, 1.1 mm deep (3 s). Rigid bodies cannot say how
+  // hard the fit squeezes; the peg must come to rest on the floor, centred, every correction converged.
+  struct Case {
+    const char* name;
+    const char* yaml;
+    double rest;  // the peg's centre height on its floor
+  };
+  const Case cases[] = {
+      {"between two blocks",
+       "  - {name: left, shape: box, size: [0.1, 0.2, 0.2], xyz: [-0.1, 0, 0.1], solid: true, material: m}\n"
+       "  - {name: right, shape: box, size: [0.1, 0.2, 0.2], xyz: [0.1, 0, 0.1], solid: true, material: m}\n"
+       "bodies:\n",
+       0.03},
+      {"in a free U channel",
+       "  []\n"
+       "bodies:\n"
+       "  - {name: u, shape: mesh, file: ../models/meshes/u_channel.obj, density: 500, xyz: [0, 0, 0.1], material: m}\n",
+       0.08}};
+  for (const Case& c : cases) {
+    Simulation sim(sceneText(std::string("materials: {m: {friction: 0.5}}\nground: {height: 0, material: m}\nobstacles:\n") +
+                             c.yaml +
+                             "  - {name: peg, shape: box, size: [0.1004, 0.06, 0.06], mass: 0.5, xyz: [0, 0, 0.15], "
+                             "material: m}\n"));
+    run(sim, 3.0);
+    const FreeBodyState peg = body(sim, "peg");
+    const ContactSolveStats& st = sim.contactStats();
+    std::printf("peg pressed %s: at x %.1e, z %+.2e m from its floor, %.1e m/s, %lld of %lld corrections and "
+                "%lld solves unconverged\n",
+                c.name, peg.p.x(), peg.p.z() - c.rest, peg.v.norm(), static_cast<long long>(st.position_unconverged),
+                static_cast<long long>(st.solves), static_cast<long long>(st.unconverged));
+    EXPECT_NEAR(peg.p.x(), 0.0, 1e-5) << c.name << ": centred";
+    EXPECT_NEAR(peg.p.z(), c.rest, 1e-4) << c.name << ": on its floor";
+    EXPECT_LT(peg.v.norm() + peg.w.norm(), 1e-3) << c.name << ": at rest";
+    EXPECT_EQ(st.position_unconverged, 0) << c.name;
+  }
+}
+
 TEST(ContactAnalytic, Go1StandsOnItsFeet) {
   Simulation sim(shipped("go1_stand.yaml"));
   run(sim, 5.0);  // settles onto its PD's sag
