@@ -78,7 +78,8 @@ ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
       cg_r_(cg_rhs_.size()),
       cg_p_(cg_rhs_.size()),
       cg_q_(cg_rhs_.size()),
-      cg_s_(cg_rhs_.size()) {}
+      cg_s_(cg_rhs_.size()),
+      broken_(static_cast<size_t>(capacity) * kMaxContactRows) {}
 
 bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   const int ng = rows.size();
@@ -217,7 +218,9 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
   double worst = 0.0;
   worst_group = worst_row = -1;
   int pulling = 0;
+  broken_n_ = 0;
   auto candidate = [&](double how_bad, int m, int row) {
+    if (broken_n_ < static_cast<int>(broken_.size())) broken_[static_cast<size_t>(broken_n_++)] = Broken{how_bad, m, row};
     if (how_bad > worst) {
       worst = how_bad;
       worst_group = m;
@@ -274,7 +277,6 @@ int ContactActiveSet::brokenConditions(ContactRows& rows, int n, double toleranc
 }
 
 bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) {
-  constexpr int kRounds = 24;
   auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
   // The sweeps' guess.
   for (int m = 0; m < n; ++m) {
@@ -365,7 +367,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
   bool cycled = false;
   for (int round = 0; round < kRounds; ++round) {
     ++rounds_;
-    guess[round % 3] = guessKey(rows, n);
+    guess[round % 3] = seen_[static_cast<size_t>(round)] = guessKey(rows, n);
     if (round >= 2 && !cycled && guess[round % 3] == guess[(round + 1) % 3]) {
       cycled = true;
       ++cycles_;
@@ -495,43 +497,69 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
       continue;
     }
     fewest_pulling = std::min(fewest_pulling, pulling);
-    ContactGroup& g = group(worst_group);
-    if (worst_row < g.points) {
-      g.active[worst_row] = !g.active[worst_row];
-    } else if (g.resists && worst_row == 3) {  // the spin: to its limit, against its turning, or back
-      g.spin_sliding = !g.spin_sliding;
-      g.slide[3] = g.spin_sliding ? (g.trial[3] > 0.0 ? g.spin_mu : -g.spin_mu) : 0.0;
-    } else if (g.resists && worst_row == 4) {  // the rolling pair, likewise
-      g.roll_sliding = !g.roll_sliding;
-      const double roll = std::hypot(g.trial[4], g.trial[5]);
-      for (int r = 4; r < 6; ++r) g.slide[r] = g.roll_sliding && roll > 0.0 ? g.roll_mu * g.trial[r] / roll : 0.0;
-    } else if (!g.sliding) {  // slip, along the friction the trial found
-      const int P = g.points, F = frictionRows(g);
-      const Vector3 scale = scaleOf(g);
-      Vector3 s = Vector3::Zero();
-      for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
-      g.sliding = true;
-      const double size = frictionSize(g, s);
-      for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / size;
-    } else if (restuck_[static_cast<size_t>(worst_group)] > 0) {
-      // Stuck once already in this polish and slipping along itself again: turned against its slip,
-      // not stuck again (stick and slip took turns to the round limit).
-      const int P = g.points, F = frictionRows(g);
-      const Vector3 scale = scaleOf(g);
-      Vector3 s, w;
-      scaledFriction(g, s, w);
-      if (shaped(g)) {
-        const Vector3 against = againstSlip(g, w);
-        for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * against[f];
-      } else {
-        for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * w[f] / w.norm();
-      }
-    } else {
-      g.sliding = false;
-      ++restuck_[static_cast<size_t>(worst_group)];
+    // The worst broken condition's change, unless it leads back to a guess this polish has had (a
+    // cycle of any length: a corner pressed pulls, let go it crosses, and round); then the next worst
+    // whose change leads somewhere new; where none does, the worst's.
+    auto tryChange = [&](int m, int row) {
+      const GuessState before(group(m), restuck_[static_cast<size_t>(m)]);
+      changeGuess(rows, m, row);
+      const uint64_t key = guessKey(rows, n);
+      if (std::find(seen_.begin(), seen_.begin() + round + 1, key) == seen_.begin() + round + 1) return true;
+      before.restore(group(m), restuck_[static_cast<size_t>(m)]);
+      return false;
+    };
+    if (tryChange(worst_group, worst_row)) continue;
+    std::sort(broken_.begin(), broken_.begin() + broken_n_, [](const Broken& a, const Broken& b) {
+      return a.how_bad != b.how_bad ? a.how_bad > b.how_bad : (a.group != b.group ? a.group < b.group : a.row < b.row);
+    });
+    bool fresh = false;
+    for (int c = 0; c < broken_n_ && !fresh; ++c) {
+      const Broken& b = broken_[static_cast<size_t>(c)];
+      if (b.group != worst_group || b.row != worst_row) fresh = tryChange(b.group, b.row);
     }
+    if (!fresh) changeGuess(rows, worst_group, worst_row);
   }
   return false;
+}
+
+// One broken condition's guess changed: a normal pressed or let go, a spin or rolling limit taken or
+// left, a friction slipping (along the trial's friction) or turned against its slip or stuck again.
+void ContactActiveSet::changeGuess(ContactRows& rows, int m, int row) {
+  ContactGroup& g = member(rows, m);
+  if (row < g.points) {
+    g.active[row] = !g.active[row];
+  } else if (g.resists && row == 3) {  // the spin: to its limit, against its turning, or back
+    g.spin_sliding = !g.spin_sliding;
+    g.slide[3] = g.spin_sliding ? (g.trial[3] > 0.0 ? g.spin_mu : -g.spin_mu) : 0.0;
+  } else if (g.resists && row == 4) {  // the rolling pair, likewise
+    g.roll_sliding = !g.roll_sliding;
+    const double roll = std::hypot(g.trial[4], g.trial[5]);
+    for (int r = 4; r < 6; ++r) g.slide[r] = g.roll_sliding && roll > 0.0 ? g.roll_mu * g.trial[r] / roll : 0.0;
+  } else if (!g.sliding) {  // slip, along the friction the trial found
+    const int P = g.points, F = frictionRows(g);
+    const Vector3 scale = scaleOf(g);
+    Vector3 s = Vector3::Zero();
+    for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
+    g.sliding = true;
+    const double size = frictionSize(g, s);
+    for (int f = 0; f < F; ++f) g.slide[P + f] = g.mu * scale[f] * s[f] / size;
+  } else if (restuck_[static_cast<size_t>(m)] > 0) {
+    // Stuck once already in this polish and slipping along itself again: turned against its slip,
+    // not stuck again (stick and slip took turns to the round limit).
+    const int P = g.points, F = frictionRows(g);
+    const Vector3 scale = scaleOf(g);
+    Vector3 s, w;
+    scaledFriction(g, s, w);
+    if (shaped(g)) {
+      const Vector3 against = againstSlip(g, w);
+      for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * against[f];
+    } else {
+      for (int f = 0; f < F; ++f) g.slide[P + f] = -g.mu * scale[f] * w[f] / w.norm();
+    }
+  } else {
+    g.sliding = false;
+    ++restuck_[static_cast<size_t>(m)];
+  }
 }
 
 // The tight rows' system M x = rhs of an island too large for the dense solve (a lattice of balls

@@ -2,11 +2,14 @@
 // solves it): per island of pairs (those coupled through a tree they share), the rows that are tight
 // (touching normals, sticking frictions; a slipping friction is mu N along its direction) as one dense
 // linear system, kept when it meets every condition; where the answer breaks one, the worst broken
-// row's guess changes and the system is solved again. A stack's load reaches its bottom in one solve
+// row's guess changes (or, where that leads back to a guess the island has had, the next worst's) and
+// the system is solved again. A stack's load reaches its bottom in one solve
 // where the sweeps need hundreds. An island of more than kPolishRows unknowns takes conjugate gradients
 // for its system where nothing in it slips, and is left to the sweeps where something does.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +53,7 @@ class ContactActiveSet {
   void forEachCoupled(ContactRows& rows, int m, Visit&& visit);
   void trialVelocities(ContactRows& rows, int n);
   int brokenConditions(ContactRows& rows, int n, double tolerance, int& worst_group, int& worst_row);
+  void changeGuess(ContactRows& rows, int m, int row);
   double slipMisalignment(ContactRows& rows, int n, double tolerance);
   bool turnSlips(ContactRows& rows, int n, double tolerance);
   uint64_t guessKey(ContactRows& rows, int n);
@@ -81,6 +85,36 @@ class ContactActiveSet {
   VectorX cg_rhs_, cg_x_, cg_r_, cg_p_, cg_q_, cg_s_;
   int large_solves_ = 0;
   int cg_iterations_ = 0;
+  // A polish's rounds: the guesses it has had (hashed), and the last round's broken conditions (how
+  // badly, which member, which row), to change the next worst where the worst's change leads back.
+  static constexpr int kRounds = 24;
+  std::array<uint64_t, kRounds> seen_{};
+  struct Broken {
+    double how_bad;
+    int group, row;
+  };
+  std::vector<Broken> broken_;
+  int broken_n_ = 0;
+  // One member's guess, to put back a change tried and not taken.
+  struct GuessState {
+    bool active[kMaxPairPoints];
+    bool sliding, spin_sliding, roll_sliding;
+    double slide[kMaxContactRows];
+    int restuck;
+    GuessState(const ContactGroup& g, int restuck_count)
+        : sliding(g.sliding), spin_sliding(g.spin_sliding), roll_sliding(g.roll_sliding), restuck(restuck_count) {
+      std::copy(g.active, g.active + kMaxPairPoints, active);
+      std::copy(g.slide, g.slide + kMaxContactRows, slide);
+    }
+    void restore(ContactGroup& g, int& restuck_count) const {
+      std::copy(active, active + kMaxPairPoints, g.active);
+      std::copy(slide, slide + kMaxContactRows, g.slide);
+      g.sliding = sliding;
+      g.spin_sliding = spin_sliding;
+      g.roll_sliding = roll_sliding;
+      restuck_count = restuck;
+    }
+  };
 };
 
 }  // namespace igms
