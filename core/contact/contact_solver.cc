@@ -37,6 +37,7 @@ void shareOpposedOverlaps(ContactRows& rows, const ContactSet& contacts, std::ve
     if (deepest <= 0.0) continue;
     const Contact& a = contacts[g.first];
     const int tree = g.tree_b >= 0 ? g.tree_b : g.tree_a;
+    if (tree < 0) continue;  // two shapes of the world (never a pair today)
     for (int j = 0; j < rows.treeGroups(tree); ++j) {
       const ContactGroup& h = rows.group(rows.treeGroup(tree, j));
       // The same two parts first: a crowded scene's other pairs are passed without reading their contacts.
