@@ -248,6 +248,31 @@ TEST(Environment, TheStepAllocatesNothingWhileSlipsAreTurned) {
   EXPECT_GT(sim.contactStats().slips_unturned, unturned) << "an answer kept its slip unturned within the steps";
 }
 
+TEST(Environment, TheStepAllocatesNothingSharingOpposedOverlaps) {
+  // A peg 0.4 mm wider than the U channel's slot: both walls overlap it, and the position correction
+  // shares their overlap (contact_solver.cc) on the steps measured.
+  Simulation sim(parseScene(
+      "materials: {m: {friction: 0.5}}\n"
+      "obstacles: [{name: u, shape: mesh, file: ../models/meshes/u_channel.obj, solid: true, material: m}]\n"
+      "bodies: [{name: peg, shape: box, size: [0.1004, 0.06, 0.06], mass: 0.5, xyz: [0, 0, 0.05], material: m}]\n",
+      "peg.yaml", test::sourceDir() + "/scenes"));
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+  int opposed = 0;  // steps with two overlapping points whose normals oppose
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 300; ++k) {
+      sim.step(nullptr);
+      const ContactSet& c = sim.contacts();
+      bool found = false;
+      for (int i = 0; i < c.n; ++i)
+        for (int j = i + 1; j < c.n; ++j)
+          found = found || (c[i].distance < -1e-6 && c[j].distance < -1e-6 && c[i].normal.dot(c[j].normal) < -0.9);
+      opposed += found;
+    }
+  });
+  EXPECT_EQ(n, 0u);
+  EXPECT_GT(opposed, 0) << "the walls' overlaps were shared within the steps measured";
+}
+
 TEST(Environment, TheStepAllocatesNothingThroughChainedImpactsAndResistance) {
   // Three balls on a floor, the first rolling into the others at 0.1 m/s (its blow passed along the
   // row, contact_impacts.h), each with rolling and torsional resistance (three more rows a point).
