@@ -4,6 +4,7 @@
 // ignored, SIGTERM stops it cleanly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <lcm/lcm-cpp.hpp>
@@ -50,6 +51,7 @@ class Listener {
     std::lock_guard<std::mutex> l(mutex);
     status = *m;
     ++statuses;
+    slip_angle_max = std::max(slip_angle_max, m->contact_slip_angle_max);
   }
   bool waitForStatus(int n, double seconds) {
     return waitUntil(seconds, [&] { return statuses >= n; });
@@ -73,6 +75,7 @@ class Listener {
   robot_state_t last;
   server_status_t status;
   int count = 0, statuses = 0, out_of_order = 0;
+  double slip_angle_max = 0.0;  // over every status received
 
  private:
   lcm::LCM bus_;
@@ -151,6 +154,28 @@ TEST(Server, TheStatusCountsTheContactSolves) {
   EXPECT_GE(st.contact_sweeps_max, 1);
   EXPECT_GE(st.contact_residual_max, 0.0);
   EXPECT_LE(st.contact_residual_max, 1e-10);
+}
+
+// A solve counted converged can keep a slipping friction the active set could not turn against its slip;
+// the status says so. puma_table's first such answer comes at step 2442 (1.55 rad from opposing the
+// slip), none before: the count and the angle reach the status, and read 0 until then.
+TEST(Server, TheStatusCountsTheSlipsLeftUnturned) {
+  Listener listener;
+  ChildProcess server = startServer("puma_table.yaml");
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.2; }));
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    ASSERT_LT(listener.status.sim_time, 2.44) << "the status period is 0.1 s";
+    EXPECT_GT(listener.status.contact_solves, 0);
+    EXPECT_EQ(listener.status.contact_slips_unturned, 0);
+    EXPECT_LT(listener.slip_angle_max, 1e-6);
+  }
+  ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.6; }));
+  std::lock_guard<std::mutex> l(listener.mutex);
+  EXPECT_GE(listener.status.contact_slips_unturned, 1);
+  EXPECT_GT(listener.slip_angle_max, 1.5);
+  EXPECT_LE(listener.slip_angle_max, M_PI);
 }
 
 // The paper's nominal motion takes the PUMA's wrist (joint5) to 115 deg, past its URDF limit of 100 deg,
