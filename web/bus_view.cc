@@ -171,6 +171,10 @@ void BusView::appendServer(std::string& s) const {
   s += ",\"overruns\":" + std::to_string(st.overruns);
   s += ",\"inputs_rejected\":" + std::to_string(st.inputs_rejected);
   s += ",\"commands_rejected\":" + std::to_string(st.commands_rejected);
+  // The contact solve over the run (all 0 in a scene without contact).
+  s += ",\"contact\":{\"solves\":" + std::to_string(st.contact_solves);
+  s += ",\"unconverged\":" + std::to_string(st.contact_unconverged);
+  s += ",\"slips_unturned\":" + std::to_string(st.contact_slips_unturned) + "}";
   s += ",\"token\":\"" + std::to_string(st.session_token) + "\"}";
 }
 

@@ -22,6 +22,7 @@ the page.
   environment_view_test.py BUILD_DIR SOURCE_DIR
 """
 import os
+import re
 import sys
 import time
 
@@ -168,6 +169,12 @@ def table_and_push(checks, driver):
     # One friction per patch: the solve may carry a box on some of its corners only.
     checks.check(arrows >= 3, "the table's forces on the boxes are drawn as arrows", "%d arrows" % arrows)
     checks.check(hud == str(total), "the HUD counts them", hud)
+    # The contact solve's counts, as the server's status gives them (igms-server, realtime).
+    server_contact = page.frame()["server"]["contact"]
+    solve_hud = page.js("return document.getElementById('contact-solve').textContent")
+    checks.check(server_contact["solves"] > 1000 and
+                 re.fullmatch(r"\d+ · \d+ unconverged · \d+ slips unturned", solve_hud) is not None,
+                 "the HUD shows the contact solve's counts", "%s; the status: %s" % (solve_hud, server_contact))
     shown = page.canvas_pixels()
     ActionChains(driver).send_keys("c").perform()
     time.sleep(0.3)

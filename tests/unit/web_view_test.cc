@@ -265,6 +265,28 @@ TEST(BusView, FramesFromTheNewestStateAndLostPeers) {
   EXPECT_EQ(nlohmann::json::parse(view.frameJson(12.0, ""))["seq"], 6);
 }
 
+// The server's status rides in the frame, the contact solve's counts with it (the HUD's "contact
+// solves" row: solves, those cut short, answers that kept a slip unturned).
+TEST(BusView, TheServersContactSolveCountsInTheFrame) {
+  igms::web::BusView view;
+  const std::vector<uint8_t> a = encodedState(5, 2);
+  view.handle(igms::channels::kRobotState, a.data(), a.size(), 10.0);
+  igms::server_status_t st{};
+  st.state = "running";
+  st.contact_solves = 8000;
+  st.contact_unconverged = 26;
+  st.contact_slips_unturned = 247;
+  std::vector<uint8_t> sb(static_cast<size_t>(st.getEncodedSize()));
+  st.encode(sb.data(), 0, static_cast<int>(sb.size()));
+  view.handle(igms::channels::kServerStatus, sb.data(), sb.size(), 10.0);
+  const nlohmann::json f = nlohmann::json::parse(view.frameJson(10.1, ""));
+  ASSERT_TRUE(f.contains("server")) << f.dump();
+  EXPECT_EQ(f["server"]["state"], "running");
+  EXPECT_EQ(f["server"]["contact"]["solves"], 8000);
+  EXPECT_EQ(f["server"]["contact"]["unconverged"], 26);
+  EXPECT_EQ(f["server"]["contact"]["slips_unturned"], 247);
+}
+
 // The contacts ride in the frame as flat point and force arrays while fresh,
 // each force the one on the moving side; a malformed contacts message is
 // counted and changes nothing.

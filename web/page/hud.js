@@ -53,6 +53,10 @@ export class Hud {
       $('server-rate').textContent = fixed(s.rate, 0) + ' Hz';
       $('server-step').textContent = fixed(s.step_p50, 0) + ' / ' + fixed(s.step_p99, 0) + ' µs';
       $('server-overruns').textContent = String(s.overruns);
+      // Solves cut short at the sweep limit, and answers that kept a slip they could not turn.
+      const k = s.contact;
+      $('contact-solve').textContent = k && k.solves > 0
+        ? k.solves + ' · ' + k.unconverged + ' unconverged · ' + k.slips_unturned + ' slips unturned' : 'none';
       $('pause').textContent = s.state === 'paused' ? 'resume' : 'pause';
     }
     const c = f.client;
