@@ -234,5 +234,29 @@ TEST(Replay, ExportMakesItsFolderAndEveryCsvHasAHeader) {
   }
 }
 
+// A message that does not decode as its channel's type (here a status and a state of the wrong
+// shape, as a log recorded by another version of igms holds) is left out of the CSVs, and the export
+// says how many, per channel.
+TEST(Replay, ExportCountsTheMessagesThatDoNotDecode) {
+  const std::string log = temp("foreign.lcmlog"), err = temp("foreign.err"), dir = temp("foreign_export");
+  {
+    log::LogWriter w(log);
+    const auto p = payload(3, 40);
+    w.write(1, channels::kServerStatus, p.data(), p.size());
+    w.write(2, channels::kServerStatus, p.data(), p.size());
+    w.write(3, channels::kRobotState, p.data(), p.size());
+  }
+  ChildProcess ex({"/bin/sh", "-c", tool("igms-replay") + " export " + log + " " + dir + " 2> " + err + " > /dev/null"});
+  EXPECT_EQ(ex.wait(std::chrono::seconds(20)), 0);
+  const std::string message = readFile(err);
+  EXPECT_NE(message.find("left out 2 messages on " + std::string(channels::kServerStatus)), std::string::npos) << message;
+  EXPECT_NE(message.find("left out 1 messages on " + std::string(channels::kRobotState)), std::string::npos) << message;
+  std::ifstream status(dir + "/server_status.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(status, header));
+  EXPECT_FALSE(std::getline(status, row)) << "no row from a status that did not decode";
+  std::remove(log.c_str());
+}
+
 }  // namespace
 }  // namespace igms::test

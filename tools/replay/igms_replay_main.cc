@@ -357,12 +357,21 @@ class CsvExport {
     env_ << "," << sim.contacts().n << "," << sim.contacts().maxPenetration() << "," << robotBodyContacts(sim) << "\n";
   }
   bool wroteEnvironment() const { return env_header_; }
+  // Messages that did not decode as their channel's type (a log recorded by another version, whose
+  // type's fingerprint differs; or damage), by channel: left out of the CSVs, and said so.
+  const std::map<std::string, int64_t>& undecodable() const { return undecodable_; }
   bool wroteObstacles() const { return obstacles_header_; }
 
  private:
+  template <typename Message>
+  bool decoded(const char* channel, const uint8_t* d, int n, Message* m) {
+    if (igms::safeDecode(d, n, m)) return true;
+    ++undecodable_[channel];
+    return false;
+  }
   void sessionInfo(const uint8_t* d, int n) {
     igms::session_info_t s;
-    if (!igms::safeDecode(d, n, &s)) return;
+    if (!decoded(igms::channels::kSessionInfo, d, n, &s)) return;
     std::ofstream(dir_ + "/scene.yaml") << s.scene_text;
     // The log's copy of the model, next to the scene: an export stands on its own too.
     std::string model_file = std::filesystem::path(s.model_path).filename().string();
@@ -374,7 +383,7 @@ class CsvExport {
   // Every robot's model (a scene of several): beside the scene, and listed in models.txt.
   void sessionFiles(const uint8_t* d, int n) {
     igms::session_files_t f;
-    if (!igms::safeDecode(d, n, &f)) return;
+    if (!decoded(igms::channels::kSessionFiles, d, n, &f)) return;
     wrote_models_ = true;
     std::ofstream list(dir_ + "/models.txt");
     for (const igms::robot_files_t& r : f.robots) {
@@ -386,7 +395,7 @@ class CsvExport {
   }
   void serverStatus(const uint8_t* d, int n) {
     igms::server_status_t s;
-    if (!igms::safeDecode(d, n, &s)) return;
+    if (!decoded(igms::channels::kServerStatus, d, n, &s)) return;
     server_ << s.sim_time << "," << s.steps << "," << s.rate_hz << "," << s.step_us_p50 << "," << s.step_us_p99
             << "," << s.overruns << "," << s.inputs_received << "," << s.inputs_rejected << "," << s.collisions
             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
@@ -409,7 +418,7 @@ class CsvExport {
   }
   void robotState(const uint8_t* d, int n) {
     igms::robot_state_t s;
-    if (!igms::safeDecode(d, n, &s)) return;
+    if (!decoded(igms::channels::kRobotState, d, n, &s)) return;
     if (!states_header_) {
       statesHeader(s);
       states_header_ = true;
@@ -437,13 +446,13 @@ class CsvExport {
   }
   void hapticInput(const uint8_t* d, int n) {
     igms::haptic_input_t s;
-    if (!igms::safeDecode(d, n, &s)) return;
+    if (!decoded(igms::channels::kHapticInput, d, n, &s)) return;
     inputs_ << s.utime << "," << s.seq << "," << int{s.mode} << "," << s.tip_position[0] << "," << s.tip_position[1]
             << "," << s.tip_position[2] << "," << s.contact_link << "," << s.attach_link << "," << s.client_id << "\n";
   }
   void clientStatus(const uint8_t* d, int n) {
     igms::client_status_t s;
-    if (!igms::safeDecode(d, n, &s)) return;
+    if (!decoded(igms::channels::kClientStatus, d, n, &s)) return;
     client_ << s.utime << "," << s.cycles << "," << s.rate_hz << "," << s.rtt_us_p50 << "," << s.rtt_us_p99 << ","
             << s.deadline_misses << "," << s.fallbacks << "," << s.force_scale << "," << s.max_force_step << ","
             << s.rendered_force[0] << "," << s.rendered_force[1] << "," << s.rendered_force[2] << "," << s.client_id
@@ -474,6 +483,7 @@ class CsvExport {
   std::ofstream states_, inputs_, client_, server_, hands_, env_, obstacles_;
   std::vector<std::string> links_;  // the state's link order
   bool states_header_ = false, wrote_models_ = false, env_header_ = false, obstacles_header_ = false;
+  std::map<std::string, int64_t> undecodable_;
   std::vector<std::unique_ptr<igms::CollisionWorld>> each_obstacle_;
   std::unique_ptr<igms::Data> fk_;  // the link poses for the check (the callback's simulation is const)
 };
@@ -491,6 +501,9 @@ int exportCsv(const std::string& path, const std::string& dir) {
   const igms::ResimResult r = igms::resimulate(c.events, ".", [&](const igms::Simulation& sim) { out.resimulated(sim); });
   if (out.wroteEnvironment() && !r.error.empty())
     std::fprintf(stderr, "igms-replay: environment.csv: %s\n", r.error.c_str());
+  for (const auto& [channel, count] : out.undecodable())
+    std::fprintf(stderr, "igms-replay: left out %lld messages on %s that do not decode as its type (recorded by "
+                 "another version of igms?)\n", static_cast<long long>(count), channel.c_str());
   std::fprintf(stderr, "igms-replay: exported %s to %s/%s%s\n", path.c_str(), dir.c_str(),
                out.wroteObstacles() ? " (with obstacles.csv)" : "", out.wroteEnvironment() ? " (with environment.csv)" : "");
   return c.damaged ? 3 : 0;
