@@ -276,7 +276,7 @@ def main():
     if server:
         lines.append(f"- cut short or left out: {summary['contact_unconverged']} unconverged contact solves, "
                      f"{summary['contact_candidates_dropped']} candidate contact pairs dropped, "
-                     f"{summary['contact_slips_unturned']} solves with a slip left unturned, "
+                     f"{summary['contact_slips_unturned']} active-set answers with a slip left unturned, "
                      f"{summary['server_proxy_substep_limited']} server proxy cycles and "
                      f"{summary['client_proxy_substep_limited'] or 0} client proxy cycles out of substeps")
     if client and not summary.get("hands"):
