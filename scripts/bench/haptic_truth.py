@@ -22,7 +22,6 @@ import argparse
 import csv
 import json
 import os
-import re
 import subprocess
 import sys
 import time
@@ -31,6 +30,7 @@ import numpy as np
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import client_summary  # noqa: E402
 from cpu_steal import StealMeter, wait_for_quiet  # noqa: E402
 from processes import stop_all  # noqa: E402
 
@@ -72,15 +72,16 @@ def in_process(build, case, hand, out):
 
 
 def punctuality(log):
-    """From the client's closing lines: cycles started over a period late, the cycle jitter's p99 (us), and
-    whether its loop got SCHED_FIFO."""
-    late = re.search(r"(\d+) cycles started over a period late", log)
-    jitter = re.search(r"cycle jitter p50 \d+ us, p99 (\d+) us", log)
-    age = re.search(r"state age p50 [\d.]+ ms, p99 [\d.]+ ms, max ([\d.]+) ms", log)
-    return {"late_cycles": int(late.group(1)) if late else None,
-            "jitter_p99_us": int(jitter.group(1)) if jitter else None,
-            "oldest_state_ms": float(age.group(1)) if age else None,
-            "fifo": "igms-haptic: every thread on SCHED_FIFO" in log}
+    """From the client's closing lines (client_summary): cycles started over a period late, the cycle
+    jitter's p99 (us; infinity beyond its histogram), the oldest state it held (ms), and whether its loop got
+    SCHED_FIFO."""
+    c = client_summary.read(log)
+    return {"late_cycles": c["late_cycles"], "jitter_p99_us": c["jitter_p99_us"],
+            "oldest_state_ms": c["state_age_max_ms"], "fifo": c["fifo"]}
+
+
+def figure(value, decimals):
+    return "none" if value is None else f"{value:.{decimals}f}"
 
 
 def machine_disturbed(r, delay):
@@ -234,8 +235,8 @@ def main():
                 failures += [f"{case['name']} {hand} {where}: {f}" for f in fails]
                 ripple = "" if r["ripple"] is None else f", ripple {r['ripple']:.3g}"
                 client = "" if log is None else \
-                    (f"; client {r['late_cycles']} late, jitter p99 {r['jitter_p99_us']} us, oldest state "
-                     f"{r['oldest_state_ms']} ms, steal {r['steal'] * 100:.1f} %"
+                    (f"; client {r['late_cycles']} late, jitter p99 {figure(r['jitter_p99_us'], 0)} us, "
+                     f"oldest state {figure(r['oldest_state_ms'], 2)} ms, steal {r['steal'] * 100:.1f} %"
                      f"{'' if r['fifo'] else ', no SCHED_FIFO'}")
                 print(f"{'ok  ' if not fails else 'FAIL'} {case['name']:14} {hand:5} {where:10} felt {r['value']:.4f} "
                       f"(answer {case['answer']}: {r['error'] * 100:+.2f} %){ripple}, step {r['max_step']:.3f} N"
