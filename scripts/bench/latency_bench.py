@@ -23,6 +23,7 @@ import numpy as np
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import client_summary  # noqa: E402
 from processes import stop_all  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -59,23 +60,30 @@ def run_case(args, exp, delay, jitter, loss, port):
                                        "--wait-session-s", "5", "-c", "IGMS_(SESSION_INFO|ROBOT_STATE|SERVER_STATUS)"],
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         time.sleep(0.3)
-        procs.append(subprocess.Popen([f"{b}/server/igms-server", "--scene", SCENES[exp], "--lcm-url", server_url,
-                                       "--clock", "realtime", "--quiet"], stdout=subprocess.DEVNULL,
-                                      stderr=subprocess.DEVNULL))
         relay_err = open(os.path.join(out, "relay.log"), "w")
         procs.append(subprocess.Popen([f"{b}/tools/igms-relay", "--client-url", client_url, "--server-url",
                                        server_url, "--delay-ms", str(delay), "--jitter-ms", str(jitter),
                                        "--loss", str(loss), "--seed", "7"], stderr=relay_err))
+        # The client waits for the server's first status and starts its script then: started after the
+        # server, its script would begin wherever the arm had got to by the time the client was up (0.16 to
+        # 0.42 s into the motion on an idle machine, later on a loaded one), and its pushes, aimed at the arm
+        # where it is, would land on another part of the motion from run to run.
+        client = subprocess.Popen([f"{b}/haptic_client/igms-haptic", "--scene", SCENES[exp], "--device",
+                                   "scripted:" + SCRIPTS[exp], "--lcm-url", client_url, "--duration",
+                                   str(args.seconds)] + args.client_args, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True)
+        procs.append(client)
         time.sleep(0.3)
-        client = subprocess.run([f"{b}/haptic_client/igms-haptic", "--scene", SCENES[exp], "--device",
-                                 "scripted:" + SCRIPTS[exp], "--lcm-url", client_url, "--duration",
-                                 str(args.seconds)] + args.client_args, capture_output=True, text=True, timeout=120)
-        open(os.path.join(out, "client.log"), "w").write(client.stderr)
+        procs.append(subprocess.Popen([f"{b}/server/igms-server", "--scene", SCENES[exp], "--lcm-url", server_url,
+                                       "--clock", "realtime", "--quiet"], stdout=subprocess.DEVNULL,
+                                      stderr=subprocess.DEVNULL))
+        client_err = client.communicate(timeout=120)[1]
+        open(os.path.join(out, "client.log"), "w").write(client_err)
     finally:
         stop_all(procs, pause=0.2)
     subprocess.run([f"{b}/tools/igms-replay", "export", log, os.path.join(out, "export")], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return name, out, client.stderr
+    return name, out, client_err
 
 
 def summarise(exp, delay, jitter, loss, out, client_log):
@@ -90,26 +98,27 @@ def summarise(exp, delay, jitter, loss, out, client_log):
     def peak(lo, hi):  # the largest force on the robot between two script times (s), N
         m = (t >= lo) & (t <= hi)
         return round(float(force[m].max()), 2) if m.any() else None
-    m = re.search(r"(\d+) cycles in ([\d.]+) s \(([\d.]+) Hz\), (\d+) deadline misses.*max force step ([\d.]+) N "
-                  r"\((\d+) cycles cut", client_log)
-    a = re.search(r"state age p50 ([\d.]+) ms, p99 ([\d.]+) ms, max ([\d.]+) ms; lowest energy balance ([-\d.]+) J, "
-                  r"passivity controller acted in (\d+) cycles", client_log)
+    c = client_summary.read(client_log)
+    # When the client's script began, on the server's clock: the first step that took one of its inputs
+    # (a path's delay after it was sent). The script's pushes aim at the arm where it is by then.
+    used = np.array([int(r["input_seq"]) for r in rows]) > 0
+    first_input = round(float(t[used][0]), 3) if used.any() else None
+    start = first_input or 0.0
     b = re.search(r"igms-haptic: bus: accepted (\d+), refused (\d+)", client_log)  # a signed bus (IGMS_KEY_FILE)
     return {
         "experiment": exp, "delay_ms": delay, "jitter_ms": jitter, "loss": loss,
         "bus_accepted": int(b.group(1)) if b else None, "bus_refused": int(b.group(2)) if b else None,
-        "cycles": int(m.group(1)) if m else None, "rate_hz": float(m.group(3)) if m else None,
-        "max_force_step_N": float(m.group(5)) if m else None, "cut_to_bound": int(m.group(6)) if m else None,
-        "state_age_p50_ms": float(a.group(1)) if a else None, "state_age_p99_ms": float(a.group(2)) if a else None,
-        "state_age_max_ms": float(a.group(3)) if a else None,
-        "lowest_energy_mJ": round(float(a.group(4)) * 1000, 1) if a else None,
-        "passivity_cycles": int(a.group(5)) if a else None,
-        "server_lost": "server lost" in client_log,
+        **{k: c[k] for k in ("cycles", "rate_hz", "max_force_step_N", "cut_to_bound", "state_age_p50_ms",
+                             "state_age_p99_ms", "state_age_max_ms", "passivity_cycles")},
+        "lowest_energy_mJ": None if c["lowest_energy_J"] is None else round(c["lowest_energy_J"] * 1000, 1),
+        "server_lost": "server lost" in client_log, "first_input_s": first_input,
         "collision_free": not bool(hit.any()),
-        # Where a run collides, what tells why: when it first did, and how hard each of the paper's two
-        # pushes pressed (paper_push.yaml: 0.35-1.2 s and 1.35-2.2 s).
+        # Where a run collides, what tells why: when it first did, how hard each of the paper's two pushes
+        # pressed, and the retreat between them (paper_push.yaml's times from the script's first input:
+        # 0.35-1.0 s, 1.35-2.2 s; the retreat 1.0-1.35 s).
         "first_collision_s": round(float(t[hit][0]), 3) if hit.any() else None,
-        "push_peaks_N": [peak(0.35, 1.2), peak(1.35, 2.2)],
+        "push_peaks_N": [peak(start + 0.35, start + 1.0), peak(start + 1.35, start + 2.2)],
+        "retreat_peak_N": peak(start + 1.0, start + 1.35),
         "reached_wall": bool((np.linalg.norm(ee - target, axis=1) <= 0.01).any()),
         "t": t.tolist(), "ee": ee.tolist(),
         # A box push: where box_b ended (the states carry every body as a link).
@@ -161,7 +170,8 @@ def main():
               f"collision-free {r['collision_free']}, reached the wall {r['reached_wall']}, "
               f"deviation {r['deviation_mm']} mm (path {r['shape_deviation_mm']} mm), server lost {r['server_lost']}, "
               f"lowest energy balance "
-              f"{r['lowest_energy_mJ']} mJ, passivity controller {r['passivity_cycles']} cycles", flush=True)
+              f"{r['lowest_energy_mJ']} mJ, passivity controller {r['passivity_cycles']} cycles, first input taken at the "
+              f"server's {r['first_input_s']} s", flush=True)
     print()
     print("| experiment | one-way delay | jitter | loss | client rate | state age p99 | largest force step "
           "(cycles cut to 1 N) | lowest energy balance (controller cycles) | collision-free | reached the wall | "
