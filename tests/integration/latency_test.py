@@ -70,7 +70,7 @@ def main():
             # its own motion); the controller holds it at -25 mJ, and its 1 N cap may let a cycle's worth past.
             check(r["lowest_energy_mJ"] is not None and r["lowest_energy_mJ"] >= -30.0,
                   f"lowest energy balance {r['lowest_energy_mJ']} mJ >= -30 mJ")
-            # The client starts its script on the server's first status (0.11-0.16 s into the motion here);
+            # The client starts its script on the server's first status (0.11-0.25 s into the motion here);
             # started after the server, as this bench once did, it began 0.16-0.42 s in on an idle machine and
             # later on a loaded one, and whether a delayed push landed depended on that (a CI run whose first
             # push gave no force collided; its start was not recorded). The bound leaves a loaded machine room.
