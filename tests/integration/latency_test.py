@@ -9,7 +9,7 @@ where the arm's motion starts (the client waits for the server, so the pushes
 meet the same part of the motion in every run). The push at 0 ms and at 5 ms
 with loss, and the pull 20 ms away (+-10 ms), end collision-free at the wall.
 The push 20 +-10 ms away collides: with the jitter the hand's inputs reach the
-server in bursts, and the tip retreating from the first push at 2.5 m/s, which
+server in bursts, and the tip retreating from the first push at about 3 m/s, which
 grazes the arm at 0 ms, appears 2 cm inside it at once; the server's push jumps
 to its 40 N cap and throws the arm (docs/client.md). The test asserts that kick,
 so a change that removes it is seen; every case reaches the wall. The bus is
