@@ -26,6 +26,9 @@ constexpr int kStoppedWaiting = -1;
 // 0, an exit code, or kStoppedWaiting.
 int connect(ClientBus& bus, const Model& model, const ClientOptions& o, const std::atomic<bool>& stop) {
   const double t0 = monotonicSeconds();
+  if (!o.quiet)  // after the stop signal's handler: from here Ctrl-C or SIGTERM ends the wait cleanly
+    std::fprintf(stderr, "igms-haptic: waiting up to %.0f s for igms-server's status on %s\n", o.connect_timeout,
+                 o.lcm_url.c_str());
   while (!bus.haveServer() && !stop) {
     if (monotonicSeconds() - t0 > o.connect_timeout) {
       const bus::VerifierCounts c = bus.verifier().counts();

@@ -301,17 +301,26 @@ TEST(Client, AStallDuringContactDeliversNoStoredUpForceToTheRobot) {
 }
 
 // Stopped while it waits for a server that never came: a clean exit that says so (it used to compare the
-// missing server's link count with the scene's: "not the same scene?").
+// missing server's link count with the scene's: "not the same scene?"). The stop comes once the client says
+// it waits: a fixed 500 ms was once too short for a loaded CI machine to start it, and SIGTERM's default
+// action ended it before its handler was in place (stop() read -1, and it said nothing).
 TEST(Client, StoppedBeforeAnyServerAppearsItSaysSoAndExitsCleanly) {
   const std::string err = ::testing::TempDir() + "/client_no_server.err";
+  std::remove(err.c_str());
   ChildProcess client({"/bin/sh", "-c",
                        std::string("exec ") + std::getenv("IGMS_CLIENT_BIN") + " --scene " + sourceDir() +
                            "/scenes/puma_wall.yaml --device scripted:" + sourceDir() +
                            "/scenes/push_demo.yaml --lcm-url '" + url() + "' 2> " + err});
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  auto said_so_far = [&] {
+    std::ifstream in(err);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(8);
+  while (said_so_far().find("waiting up to") == std::string::npos && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(said_so_far().find("waiting up to"), std::string::npos) << said_so_far();
   EXPECT_EQ(client.stop(), 0);
-  std::ifstream in(err);
-  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string said = said_so_far();
   EXPECT_NE(said.find("stopped before any server appeared"), std::string::npos) << said;
   EXPECT_EQ(said.find("not the same scene"), std::string::npos) << said;
 }
