@@ -86,14 +86,29 @@ def main():
             js("document.getElementById('play').click()")
         wait(lambda: not js("return window.igms.state.frame.timeline.playing"))
 
+        resent = []  # (seek, whether the page's socket was open) for each seek asked again
+
         def seek(t):
             # The frame's sim time, boxed: before the log's first state it is 0.0, which is an answer too
             # (unboxed, a falsy 0.0 read as "no answer yet" and the wait timed out: a loaded machine's
-            # Go1 server loads late, so the bisection probed that stretch).
-            js("const s = document.getElementById('seek'); s.value = arguments[0];"
-               "s.dispatchEvent(new Event('change'));", t)
-            return wait(lambda: (lambda f: [f["t"]] if f and abs(f["timeline"]["t"] - t) < 0.002 else None)(
-                js("return window.igms.state.frame")))[0]
+            # Go1 server loads late, so the bisection probed that stretch). The page drops what it would
+            # send while its socket is closed (main.js, send), so a seek not answered within a second is
+            # asked again, and said below: a loaded CI run once waited 10 s for one answer.
+            def ask():
+                js("const s = document.getElementById('seek'); s.value = arguments[0];"
+                   "s.dispatchEvent(new Event('change'));", t)
+
+            def answer():
+                f = js("return window.igms.state.frame")
+                return [f["t"]] if f and abs(f["timeline"]["t"] - t) < 0.002 else None
+            ask()
+            for _ in range(9):
+                try:
+                    return wait(answer, timeout=1)[0]
+                except RuntimeError:
+                    resent.append((t, js("return window.igms.state.connected")))
+                    ask()
+            return wait(answer, timeout=1)[0]
 
         end = tl["end"]
         counts = {}
@@ -112,6 +127,9 @@ def main():
             name = os.path.join(a.out, "view_%s%d.png" % (MODES[mode], counts[mode]))
             driver.save_screenshot(name)
             print("screenshot: %s (t = %.3f s, %s, %.1f N)" % (name, sim_time, MODES[mode], force))
+        if resent:
+            print("screenshot: %d seeks asked again, %d of them while the page's socket was closed" %
+                  (len(resent), sum(1 for _, connected in resent if not connected)))
     finally:
         if driver:
             driver.quit()
