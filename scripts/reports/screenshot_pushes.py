@@ -86,7 +86,7 @@ def main():
             js("document.getElementById('play').click()")
         wait(lambda: not js("return window.igms.state.frame.timeline.playing"))
 
-        resent = []  # (seek, whether the page's socket was open) for each seek asked again
+        resent = []  # per seek asked again: whether the page's socket was open then
 
         def seek(t):
             # The frame's sim time, boxed: before the log's first state it is 0.0, which is an answer too
@@ -101,14 +101,14 @@ def main():
             def answer():
                 f = js("return window.igms.state.frame")
                 return [f["t"]] if f and abs(f["timeline"]["t"] - t) < 0.002 else None
-            ask()
-            for _ in range(9):
+            for attempt in range(10):
+                ask()
                 try:
                     return wait(answer, timeout=1)[0]
                 except RuntimeError:
-                    resent.append((t, js("return window.igms.state.connected")))
-                    ask()
-            return wait(answer, timeout=1)[0]
+                    if attempt == 9:
+                        raise
+                    resent.append(js("return window.igms.state.connected"))
 
         end = tl["end"]
         counts = {}
@@ -129,7 +129,7 @@ def main():
             print("screenshot: %s (t = %.3f s, %s, %.1f N)" % (name, sim_time, MODES[mode], force))
         if resent:
             print("screenshot: %d seeks asked again, %d of them while the page's socket was closed" %
-                  (len(resent), sum(1 for _, connected in resent if not connected)))
+                  (len(resent), sum(not connected for connected in resent)))
     finally:
         if driver:
             driver.quit()
