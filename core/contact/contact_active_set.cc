@@ -79,9 +79,11 @@ ContactActiveSet::ContactActiveSet(const Model& model, int capacity)
       cg_p_(cg_rhs_.size()),
       cg_q_(cg_rhs_.size()),
       cg_s_(cg_rhs_.size()),
-      broken_(static_cast<size_t>(capacity) * kMaxContactRows) {}
+      broken_(static_cast<size_t>(capacity) * kMaxContactRows),
+      lcp_base_(static_cast<size_t>(capacity)),
+      lcp_member_(static_cast<size_t>(capacity)) {}
 
-bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
+bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, bool linearise) {
   const int ng = rows.size();
   // Islands: pairs joined through the trees they share (breadth-first over each tree's groups).
   for (int g = 0; g < ng; ++g) {
@@ -95,6 +97,8 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
   cg_iterations_ = 0;
   slips_unturned_ = 0;
   slip_angle_ = 0.0;
+  linearised_exact_ = linearised_ = 0;
+  linearised_angle_ = 0.0;
   for (int seed = 0; seed < ng; ++seed) {
     if (island_[static_cast<size_t>(seed)] >= 0 || !rows.group(seed).complete) continue;
     int head = 0, tail = 0, n = 0;
@@ -116,7 +120,18 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance) {
       }
     }
     std::sort(members_.begin(), members_.begin() + n);  // a fixed order for the unknowns
-    all = polishIsland(rows, n, tolerance) && all;
+    bool settled = polishIsland(rows, n, tolerance);
+    if (!settled && linearise && linearisedIsland(rows, n, tolerance)) {
+      settled = true;
+      if (polishIsland(rows, n, tolerance)) {
+        ++linearised_exact_;
+      } else {
+        keepLinearisedAnswer(rows, n);
+        ++linearised_;
+        linearised_angle_ = std::max(linearised_angle_, island_angle_);
+      }
+    }
+    all = settled && all;
   }
   // z for the impulses as they now are (an island that took its solve changed them, whatever the others did).
   for (int g = 0; g < ng; ++g)  // z is zero but on the dofs of the groups in the solve

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/contact/contact_rows.h"
+#include "core/contact/lemke.h"
 
 namespace igms {
 
@@ -25,7 +26,9 @@ class ContactActiveSet {
 
   // Every island from the groups' impulses; on success the impulses are the exact solution of the
   // active set and z (the accumulator of the impulses) is rebuilt for them. \return all islands did.
-  bool polish(ContactRows& rows, VectorX& z, double tolerance);
+  // linearise: an island the active set cannot settle is answered on the linearised cone
+  // (contact_linearised_cone.cc; it costs a few dense solves of the island).
+  bool polish(ContactRows& rows, VectorX& z, double tolerance, bool linearise = false);
   // The last polish's rounds (dense solves), over its islands.
   int rounds() const { return rounds_; }
   // Symmetric systems whose Cholesky failed (redundant rows at round-off's mercy) and went to LU, since
@@ -43,6 +46,15 @@ class ContactActiveSet {
   // iterations (each costs about a sweep over the island).
   int largeSolves() const { return large_solves_; }
   int largeIterations() const { return cg_iterations_; }
+  // The last polish's islands the active set could not settle that the linearised cone answered
+  // (contact_linearised_cone.cc): exactly once seeded by it (linearisedExact), or on the polytope
+  // (linearised); and those where Lemke's method found no answer, since the start.
+  int linearisedExact() const { return linearised_exact_; }
+  int linearised() const { return linearised_; }
+  int64_t linearisedFailed() const { return linearised_failed_; }
+  // The last polish's largest angle between a slipping friction it kept on a polytope and the friction
+  // against its slip on the true cone (rad).
+  double linearisedAngle() const { return linearised_angle_; }
 
  private:
   bool polishIsland(ContactRows& rows, int n, double tolerance);  // members_[0 .. n): one island
@@ -57,6 +69,11 @@ class ContactActiveSet {
   double slipMisalignment(ContactRows& rows, int n, double tolerance);
   bool turnSlips(ContactRows& rows, int n, double tolerance);
   uint64_t guessKey(ContactRows& rows, int n);
+  // The island's LCP on the linearised cone, solved: its answer kept, and the impulses seeded from it.
+  // \return it had one.
+  bool linearisedIsland(ContactRows& rows, int n, double tolerance);
+  void assembleLinearised(ContactRows& rows, int n, int size);
+  void keepLinearisedAnswer(ContactRows& rows, int n);
   std::vector<int> island_, queue_, members_, stamp_;
   std::vector<int> restuck_;  // per member: times its friction went back from slipping to sticking in this polish
   // One round's dense system (its top-left nx x nx of kPolishRows square, allocated once), right side
@@ -94,6 +111,19 @@ class ContactActiveSet {
     int group, row;
   };
   std::vector<Broken> broken_;
+  // The linearised cone: islands of at most kLinearisedGroups pairs and kLinearisedRows unknowns.
+  static constexpr int kLinearisedGroups = 32, kLinearisedRows = 384, kMaxGenerators = 19;  // a patch's 18 and the sweeps' friction
+  Lemke lemke_{kLinearisedRows};
+  MatrixX lcp_M_ = MatrixX(kLinearisedRows, kLinearisedRows);
+  VectorX lcp_q_ = VectorX(kLinearisedRows), lcp_z_ = VectorX(kLinearisedRows);
+  std::vector<int> lcp_base_, lcp_member_;  // per group: its first unknown, its member
+  std::vector<Eigen::Matrix<double, 3, kMaxGenerators>> generators_ =
+      std::vector<Eigen::Matrix<double, 3, kMaxGenerators>>(kLinearisedGroups);
+  std::vector<int> generator_count_ = std::vector<int>(kLinearisedGroups);
+  std::vector<ContactRowVector> linearised_answer_ = std::vector<ContactRowVector>(kLinearisedGroups);
+  int linearised_exact_ = 0, linearised_ = 0;
+  double island_angle_ = 0.0, linearised_angle_ = 0.0;  // the last linearised island's, the polish's largest kept
+  int64_t linearised_failed_ = 0;
   int broken_n_ = 0;
   // One member's guess, to put back a change tried and not taken.
   struct GuessState {

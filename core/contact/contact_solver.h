@@ -57,6 +57,12 @@ struct ContactSolveStats {
   double position_residual = 0.0;  // m/s: their last sweep's largest change
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit, since the start
   int64_t energy_capped = 0;   // solves whose impulses, still adding energy, were scaled down (capEnergy), since the start
+  // Active-set islands it could not settle, answered on the linearised cone (contact_linearised_cone.cc):
+  // exactly once seeded by its answer, or with the polytope's answer; and where that found none; since
+  // the start.
+  int64_t linearised_exact = 0, linearised = 0, linearised_failed = 0;
+  double linearised_angle = 0.0;  // rad: the last solve's largest angle between a polytope's slipping friction
+                                  // it kept and the one against its slip on the true cone
   int64_t polish_cycles = 0;   // active-set islands whose guess came back to the one two rounds before, since the start
   int64_t large_solves = 0;      // active-set islands above its dense solve's size solved by conjugate gradients,
   int64_t large_iterations = 0;  // and their iterations (each about a sweep's cost), since the start

@@ -43,6 +43,7 @@ struct Tally {
   double max_residual = 0.0;
   int64_t polish_rounds = 0;
   double max_slip_angle = 0.0;
+  double max_linearised_angle = 0.0;
   double max_robot_force = 0.0;
   int64_t steps_with_several_hands = 0;
   std::vector<Interaction> interactions;            // in order of start (reserved: a push or pull is rare)
@@ -170,6 +171,10 @@ class PySimulation {
     solve.large_solves = s.large_solves;
     solve.large_iterations = s.large_iterations;
     solve.max_slip_angle = tally_.max_slip_angle;
+    solve.linearised_exact = s.linearised_exact;
+    solve.linearised = s.linearised;
+    solve.linearised_failed = s.linearised_failed;
+    solve.max_linearised_angle = tally_.max_linearised_angle;
     d["contact_solve"] = solveFigures(solve);
     nb::dict poses;
     const Model& model = sim_.model();
@@ -258,6 +263,7 @@ class PySimulation {
       tally_.max_residual = std::max(tally_.max_residual, sim_.contactStats().residual);
       tally_.polish_rounds += sim_.contactStats().polish_rounds;
       tally_.max_slip_angle = std::max(tally_.max_slip_angle, sim_.contactStats().slip_angle);
+      tally_.max_linearised_angle = std::max(tally_.max_linearised_angle, sim_.contactStats().linearised_angle);
     }
     const StepOutcome& o = sim_.outcome();
     tally_.max_robot_force = std::max(tally_.max_robot_force, o.force_on_robot.norm());

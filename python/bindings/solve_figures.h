@@ -24,6 +24,10 @@ inline nanobind::dict solveFigures(const ScenarioSolveStats& s) {
   d["large_solves"] = s.large_solves;
   d["large_iterations"] = s.large_iterations;
   d["max_slip_angle"] = s.max_slip_angle;
+  d["linearised_exact"] = s.linearised_exact;
+  d["linearised"] = s.linearised;
+  d["linearised_failed"] = s.linearised_failed;
+  d["max_linearised_angle"] = s.max_linearised_angle;
   return d;
 }
 

@@ -6,7 +6,9 @@ by a few nm changes puma_table's count from 30 to 327), so a change to the solve
 sum over many runs. Each scene is run N times with its first free body moved k nm along x
 (k = 0 .. N-1), with igms-scenario; per scene: the total, the median and the largest count, the
 largest residual (m/s), the active-set solve's dense solves, the position corrections that stopped
-at their sweep limit, the active-set islands that cycled (polish_cycles), and the deepest overlap of
+at their sweep limit, the active-set islands that cycled (polish_cycles), the islands answered on the
+linearised cone (exactly once seeded by it, or with the polytope's answer, and the largest angle, rad,
+between a friction kept on the polytope and the one against its slip), and the deepest overlap of
 any run and the median run's deepest (mm, igms-scenario's max_penetration).
 
   scripts/bench/solve_ensemble.py [--build build] [--runs 12] [--first 0]
@@ -48,10 +50,11 @@ def main():
     work = tempfile.mkdtemp(prefix=".solve_ensemble_", dir=ROOT)
     try:
         print(f"{'scene':<18} {'device':<20} {'total':>6} {'median':>7} {'max':>5} {'worst residual':>15} {'dense solves':>13} "
-              f"{'position':>9} {'cycles':>7} {'deepest mm':>11} {'median mm':>10}")
+              f"{'position':>9} {'cycles':>7} {'lin. exact':>10} {'polytope':>8} {'angle':>6} {'deepest mm':>11} {'median mm':>10}")
         for scene, device, seconds in CASES:
             text = open(os.path.join(ROOT, "scenes", scene)).read()
             counts, worst, rounds, position, cycles, deepest = [], 0.0, 0, 0, 0, []
+            exact, polytope, angle = 0, 0, 0.0
             for k in range(args.first, args.first + args.runs):
                 path = os.path.join(work, f"{k}_{scene}")
                 with open(path, "w") as f:
@@ -63,12 +66,15 @@ def main():
                 solve = result["contact_solve"]
                 deepest.append(1e3 * result["max_penetration"])
                 cycles += solve["polish_cycles"]
+                exact += solve["linearised_exact"]
+                polytope += solve["linearised"]
+                angle = max(angle, solve["max_linearised_angle"])
                 counts.append(solve["unconverged"])
                 worst = max(worst, solve["max_residual"])
                 rounds += solve["polish_rounds"]
                 position += solve["position_unconverged"]
             print(f"{scene:<18} {device or '-':<20} {sum(counts):>6} {statistics.median(counts):>7g} {max(counts):>5} "
-                  f"{worst:>15.1e} {rounds:>13} {position:>9} {cycles:>7} {max(deepest):>11.3f} {statistics.median(deepest):>10.3f}")
+                  f"{worst:>15.1e} {rounds:>13} {position:>9} {cycles:>7} {exact:>10} {polytope:>8} {angle:>6.3f} {max(deepest):>11.3f} {statistics.median(deepest):>10.3f}")
     finally:
         shutil.rmtree(work)
 

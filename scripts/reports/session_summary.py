@@ -195,6 +195,8 @@ def main():
         "contact_candidates_dropped": int(server.get("contact_candidates_dropped") or 0) if server else None,
         # Counted converged, but a slipping friction kept along the sweeps' direction, not against its slip.
         "contact_slips_unturned": int(server.get("contact_slips_unturned") or 0) if server else None,
+        # Answered, but on the linearised cone's polytope, not the cone.
+        "contact_linearised": int(server.get("contact_linearised") or 0) if server else None,
         "server_proxy_substep_limited": int(server.get("proxy_substep_limited") or 0) if server else None,
         "client_proxy_substep_limited": client_proxy_limited(os.path.join(exp, "client_status.csv")) if client else None,
         "steps": len(rows),
@@ -277,6 +279,7 @@ def main():
         lines.append(f"- cut short or left out: {summary['contact_unconverged']} unconverged contact solves, "
                      f"{summary['contact_candidates_dropped']} candidate contact pairs dropped, "
                      f"{summary['contact_slips_unturned']} active-set answers with a slip left unturned, "
+                     f"{summary['contact_linearised']} islands answered on the linearised cone's polytope, "
                      f"{summary['server_proxy_substep_limited']} server proxy cycles and "
                      f"{summary['client_proxy_substep_limited'] or 0} client proxy cycles out of substeps")
     if client and not summary.get("hands"):

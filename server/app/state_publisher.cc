@@ -130,6 +130,7 @@ void StatePublisher::publish(const Snapshot& s) {
     stats_.solve_sweeps_max = std::max(stats_.solve_sweeps_max, s.solve.iterations);
     stats_.solve_residual_max = std::max(stats_.solve_residual_max, s.solve.residual);
     stats_.solve_slip_angle_max = std::max(stats_.solve_slip_angle_max, s.solve.slip_angle);
+    stats_.solve_linearised_angle_max = std::max(stats_.solve_linearised_angle_max, s.solve.linearised_angle);
   }
   stats_.limits.observe(s.q);
 }

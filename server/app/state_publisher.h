@@ -39,7 +39,8 @@ struct PublishStats {
   ContactSolveStats solve;             // the contact solver's totals, as of the newest state
   int solve_sweeps_max = 0;            // since the status last drained them: the most sweeps in a solve,
   double solve_residual_max = 0.0;     // the largest final residual (m/s),
-  double solve_slip_angle_max = 0.0;   // and the largest angle a slipping friction left from opposing its slip (rad)
+  double solve_slip_angle_max = 0.0;   // the largest angle a slipping friction left from opposing its slip (rad),
+  double solve_linearised_angle_max = 0.0;  // and the largest a friction kept on the linearised cone left (rad)
   int64_t candidates_dropped = 0;      // as of the newest state (snapshot.h)
   int64_t proxy_substep_limited = 0;
 };

@@ -113,10 +113,13 @@ void StatusReporter::publishStatus(PublishStats& p) {
   s.contact_candidates_dropped = p.candidates_dropped;
   s.contact_slips_unturned = p.solve.slips_unturned;
   s.contact_slip_angle_max = p.solve_slip_angle_max;
+  s.contact_linearised = p.solve.linearised;
+  s.contact_linearised_angle_max = p.solve_linearised_angle_max;
   s.proxy_substep_limited = p.proxy_substep_limited;
   p.solve_sweeps_max = 0;
   p.solve_residual_max = 0.0;
   p.solve_slip_angle_max = 0.0;
+  p.solve_linearised_angle_max = 0.0;
   bus_.publish(channels::kServerStatus, s);
   if (seq_ % 10 == 1) {
     requestSessionInfo(s.session_token);
@@ -140,12 +143,12 @@ void StatusReporter::print(const server_status_t& s, const PublishStats& p) cons
   if (s.contact_solves > 0)
     std::fprintf(stderr,
                  "igms-server:   contact: %lld solves, %lld unconverged (positions %lld), %lld warm starts dropped, "
-                 "%lld candidate pairs dropped, %lld slips unturned; this period at most %d sweeps, residual %.2g m/s, "
-                 "slip angle %.2g rad\n",
+                 "%lld candidate pairs dropped, %lld slips unturned, %lld islands on the linearised cone; this period at "
+                 "most %d sweeps, residual %.2g m/s, slip angle %.2g rad\n",
                  static_cast<long long>(s.contact_solves), static_cast<long long>(s.contact_unconverged),
                  static_cast<long long>(s.contact_position_unconverged), static_cast<long long>(s.contact_warm_dropped),
                  static_cast<long long>(s.contact_candidates_dropped), static_cast<long long>(s.contact_slips_unturned),
-                 s.contact_sweeps_max, s.contact_residual_max, s.contact_slip_angle_max);
+                 static_cast<long long>(s.contact_linearised), s.contact_sweeps_max, s.contact_residual_max, s.contact_slip_angle_max);
   if (s.proxy_substep_limited > 0)
     std::fprintf(stderr, "igms-server:   hands' proxies: %lld cycles cut short by the substep budget\n",
                  static_cast<long long>(s.proxy_substep_limited));

@@ -52,6 +52,7 @@ class Listener {
     status = *m;
     ++statuses;
     slip_angle_max = std::max(slip_angle_max, m->contact_slip_angle_max);
+    linearised_angle_max = std::max(linearised_angle_max, m->contact_linearised_angle_max);
   }
   bool waitForStatus(int n, double seconds) {
     return waitUntil(seconds, [&] { return statuses >= n; });
@@ -76,6 +77,7 @@ class Listener {
   server_status_t status;
   int count = 0, statuses = 0, out_of_order = 0;
   double slip_angle_max = 0.0;  // over every status received
+  double linearised_angle_max = 0.0;
 
  private:
   lcm::LCM bus_;
@@ -156,9 +158,10 @@ TEST(Server, TheStatusCountsTheContactSolves) {
   EXPECT_LE(st.contact_residual_max, 1e-10);
 }
 
-// A solve counted converged can keep a slipping friction the active set could not turn against its slip;
-// the status says so. puma_table's first such answer comes at step 2442 (1.55 rad from opposing the
-// slip), none before: the count and the angle reach the status, and read 0 until then.
+// A solve counted converged can keep a slipping friction the active set could not turn against its slip,
+// or an island's answer on the linearised cone's polytope; the status says so. puma_table's first such
+// answers come at steps 2440 (1.54 rad from opposing the slip) and 2438 (0.23 rad), none before: the
+// counts and the angles reach the status, and read 0 until then.
 TEST(Server, TheStatusCountsTheSlipsLeftUnturned) {
   Listener listener;
   ChildProcess server = startServer("puma_table.yaml");
@@ -170,12 +173,18 @@ TEST(Server, TheStatusCountsTheSlipsLeftUnturned) {
     EXPECT_GT(listener.status.contact_solves, 0);
     EXPECT_EQ(listener.status.contact_slips_unturned, 0);
     EXPECT_LT(listener.slip_angle_max, 1e-6);
+    EXPECT_EQ(listener.status.contact_linearised, 0);
+    EXPECT_EQ(listener.linearised_angle_max, 0.0);
   }
   ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.6; }));
   std::lock_guard<std::mutex> l(listener.mutex);
   EXPECT_GE(listener.status.contact_slips_unturned, 1);
   EXPECT_GT(listener.slip_angle_max, 1.5);
   EXPECT_LE(listener.slip_angle_max, M_PI);
+  EXPECT_GE(listener.status.contact_linearised, 1);
+  EXPECT_GT(listener.linearised_angle_max, 0.2);
+  EXPECT_LE(listener.linearised_angle_max, M_PI);
+  EXPECT_EQ(listener.status.contact_unconverged, 0) << "26 in 8 s before the linearised cone";
 }
 
 // The paper's nominal motion takes the PUMA's wrist (joint5) to 115 deg, past its URDF limit of 100 deg,

@@ -309,7 +309,7 @@ class CsvExport {
     hands_ << "t,seq,client,input_seq,mode,fx,fy,fz,tx,ty,tz,px,py,pz\n";
     server_ << "t,steps,rate_hz,step_us_p50,step_us_p99,overruns,inputs_received,inputs_rejected,collisions,"
                "first_collision_time,min_obstacle_distance,commands_received,commands_rejected,contact_solves,"
-               "contact_unconverged,contact_candidates_dropped,proxy_substep_limited,contact_slips_unturned\n";
+               "contact_unconverged,contact_candidates_dropped,proxy_substep_limited,contact_slips_unturned,contact_linearised\n";
   }
   bool good() const { return static_cast<bool>(states_); }
 
@@ -401,7 +401,7 @@ class CsvExport {
             << "," << s.first_collision_time << "," << s.min_obstacle_distance << "," << s.commands_received << ","
             << s.commands_rejected << "," << s.contact_solves << "," << s.contact_unconverged << ","
             << s.contact_candidates_dropped << "," << s.proxy_substep_limited << "," << s.contact_slips_unturned
-            << "\n";
+            << "," << s.contact_linearised << "\n";
   }
   void statesHeader(const igms::robot_state_t& s) {
     states_ << "t,seq,input_seq,mode";

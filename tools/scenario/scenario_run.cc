@@ -103,6 +103,7 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
       out.solve.max_sweeps = std::max(out.solve.max_sweeps, s.solver_sweeps);
       out.solve.polish_rounds += solve.polish_rounds;
       out.solve.max_slip_angle = std::max(out.solve.max_slip_angle, solve.slip_angle);
+      out.solve.max_linearised_angle = std::max(out.solve.max_linearised_angle, solve.linearised_angle);
       out.solve.max_residual = std::max(out.solve.max_residual, s.solver_residual);
     }
     out.solve.unconverged = solve.unconverged;
@@ -111,6 +112,9 @@ ScenarioResult runScenario(const Scene& scene, const std::string& script, double
     out.solve.energy_capped = solve.energy_capped;
     out.solve.slips_unturned = solve.slips_unturned;
     out.solve.polish_cycles = solve.polish_cycles;
+    out.solve.linearised_exact = solve.linearised_exact;
+    out.solve.linearised = solve.linearised;
+    out.solve.linearised_failed = solve.linearised_failed;
     out.solve.large_solves = solve.large_solves;
     out.solve.large_iterations = solve.large_iterations;
     out.solve.position_unconverged = solve.position_unconverged;

@@ -40,7 +40,9 @@ struct ScenarioSolveStats {
   int64_t position_unconverged = 0;  // position corrections that stopped at the sweep limit
   int64_t near_rebuilds = 0;        // the detection's broad phases (its list of near pairs rebuilt)
   int64_t candidates_dropped = 0;   // candidate pairs beyond the detection's buffers (contacts missed)
-  int64_t polish_cycles = 0;        // active-set islands whose guess came back to the one two rounds before
+  int64_t polish_cycles = 0;
+  int64_t linearised_exact = 0, linearised = 0, linearised_failed = 0;  // islands answered on the linearised cone
+  double max_linearised_angle = 0.0;  // rad: a kept polytope friction's largest angle off against its slip        // active-set islands whose guess came back to the one two rounds before
   int64_t slips_unturned = 0;       // active-set answers whose slipping friction kept the sweeps' direction
   int64_t large_solves = 0;         // active-set islands too large for the dense solve, by conjugate gradients
   int64_t large_iterations = 0;     // and their iterations

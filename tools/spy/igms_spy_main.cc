@@ -77,13 +77,14 @@ IGMS_SEQ_TYPE(haptic_input_t, "client %d mode %d tip (%.3f %.3f %.3f)", m.client
               m.tip_position[1], m.tip_position[2])
 IGMS_SEQ_TYPE(server_status_t,
               "%s %.0f Hz step p50/p99 %.1f/%.1f us overruns %lld rejected %lld collisions %lld clients %d (active %d)"
-              " contact solves %lld unconverged %lld slips unturned %lld sweeps<=%d",
+              " contact solves %lld unconverged %lld slips unturned %lld linearised %lld sweeps<=%d",
               m.state.c_str(), m.rate_hz, m.step_us_p50, m.step_us_p99,
               static_cast<long long>(m.overruns), static_cast<long long>(m.inputs_rejected),
               static_cast<long long>(m.collisions), m.nclients,
               static_cast<int>(std::count(m.client_active.begin(), m.client_active.end(), true)),
               static_cast<long long>(m.contact_solves), static_cast<long long>(m.contact_unconverged),
-              static_cast<long long>(m.contact_slips_unturned), m.contact_sweeps_max)
+              static_cast<long long>(m.contact_slips_unturned),
+              static_cast<long long>(m.contact_linearised), m.contact_sweeps_max)
 IGMS_SEQ_TYPE(client_status_t, "%s %.0f Hz rtt p50/p99 %.0f/%.0f us misses %lld fallbacks %lld scale %.2f",
               m.state.c_str(), m.rate_hz, m.rtt_us_p50, m.rtt_us_p99, static_cast<long long>(m.deadline_misses),
               static_cast<long long>(m.fallbacks), m.force_scale)
