@@ -237,15 +237,19 @@ TEST(Environment, TheStepAllocatesNothingSolvingALargeIsland) {
 
 TEST(Environment, TheStepAllocatesNothingWhileSlipsAreTurned) {
   // puma_table's arm shoving its boxes for 8 s: thousands of active-set answers whose slipping
-  // friction Newton's method turns against its slip (contact_active_set.h), a few it cannot.
+  // friction Newton's method turns against its slip (contact_active_set.h), a few it cannot, and the
+  // islands the active set cannot settle, answered on the linearised cone (Lemke's method).
   Simulation sim(shipped("puma_table.yaml"));
   for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
   const int64_t unturned = sim.contactStats().slips_unturned;
+  const int64_t linearised = sim.contactStats().linearised_exact + sim.contactStats().linearised;
   const size_t n = test::allocationsDuring([&] {
     for (int k = 0; k < 7980; ++k) sim.step(nullptr);
   });
   EXPECT_EQ(n, 0u);
   EXPECT_GT(sim.contactStats().slips_unturned, unturned) << "an answer kept its slip unturned within the steps";
+  EXPECT_GT(sim.contactStats().linearised_exact + sim.contactStats().linearised, linearised + 10)
+      << "islands on the linearised cone within the steps (53 measured)";
 }
 
 TEST(Environment, TheStepAllocatesNothingSharingOpposedOverlaps) {
