@@ -12,10 +12,6 @@ namespace {
 
 constexpr double kInside = 1.0 - 1e-9;  // strictly inside the cone: sticking
 
-// A group's friction rows: a patch with a torsion radius has three (two tangents, the torsion).
-int frictionRows(const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; }
-// The friction's scaled coordinates (f_t, tau / r): the patch's ellipsoid is a ball there.
-Vector3 scaleOf(const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); }
 // Whether row r (past the normals) is at its limit: the friction's, or a resisting point's spin or
 // rolling (rows 3; 4 and 5).
 bool slidingRow(const ContactGroup& g, int r) {

@@ -9,8 +9,8 @@
 // The polytope is coarse (every 45 degrees; a patch's torsion rings at +-45 degrees and the pure spins)
 // and has the sweeps' friction. Its answer seeds the active set once more, each slipping friction
 // turned against its slip on the true cone; where that settles, the island's answer is exact, else it
-// keeps the polytope's (counted: ContactActiveSet::linearised()). The solve's last chance only (its
-// sweeps spent): it costs a few dense solves of the island.
+// keeps the polytope's (counted: ContactActiveSet::linearised()). The solver asks for it once two
+// polishes have failed (contact_solver.cc): it costs a few dense solves of the island.
 #include <algorithm>
 #include <cmath>
 
@@ -19,12 +19,6 @@
 namespace igms {
 
 namespace {
-
-constexpr int kRefinements = 3;       // solves again with the generators against the answer's slips
-constexpr double kAligned = 1e-6;     // a slipping friction this near (per unit mu N) the one against its slip
-
-int frictionRowsOf(const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; }
-Vector3 scaleFor(const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); }
 
 // Directions in the friction's scaled coordinates: around the tangent plane every 45 degrees; for a
 // patch's torsion, rings of four at +-45 degrees between them and the two pure spins.
@@ -62,15 +56,15 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
   auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
   if (n > kLinearisedGroups) return false;
   const ContactGroup* const first_group = &rows.group(0);
-  // The first generators (real coordinates, per unit mu N).
+  // The generators (real coordinates, per unit mu N).
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
     if (g.resists || cache_count_[static_cast<size_t>(m)] < 0) return false;
     int& count = generator_count_[static_cast<size_t>(m)];
     count = 0;
     if (!(g.mu > 0.0)) continue;
-    const int F = frictionRowsOf(g), P = g.points;
-    const Vector3 scale = scaleFor(g);
+    const int F = frictionRows(g), P = g.points;
+    const Vector3 scale = scaleOf(g);
     Vector3 dirs[kMaxGenerators];
     const int nd = baseDirections(F, dirs);
     auto& G = generators_[static_cast<size_t>(m)];
@@ -98,7 +92,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
     const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
-    const int P = g.points, F = frictionRowsOf(g), d = generator_count_[static_cast<size_t>(m)];
+    const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
     g.trial.setZero();
     for (int k = 0; k < P; ++k) g.trial[k] = lcp_z_[gb + k];
     for (int j = 0; j < d; ++j)
@@ -115,11 +109,11 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
     ContactGroup& g = group(m);
     g.lambda = g.trial;
     const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
-    const int P = g.points, F = frictionRowsOf(g), d = generator_count_[static_cast<size_t>(m)];
+    const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
     if (d == 0 || !(lcp_z_[gb + P + d] > 0.0)) continue;
     double N = 0.0;
     for (int k = 0; k < (g.patch ? P : 1); ++k) N += g.trial[k];
-    const Vector3 scale = scaleFor(g);
+    const Vector3 scale = scaleOf(g);
     Vector3 w = Vector3::Zero();
     for (int f = 0; f < F; ++f) w[f] = g.trial_u[P + f] * scale[f];
     if (!(w.norm() > tolerance) || !(N > 0.0)) continue;  // a slip within the tolerance: any direction
@@ -144,13 +138,13 @@ void ContactActiveSet::assembleLinearised(ContactRows& rows, int n, int size) {
   for (int m = 0; m < n; ++m) {
     const ContactGroup& g = member(rows, m);
     const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
-    const int Pg = g.points, Fg = frictionRowsOf(g), dg = generator_count_[static_cast<size_t>(m)];
+    const int Pg = g.points, Fg = frictionRows(g), dg = generator_count_[static_cast<size_t>(m)];
     const auto& Gg = generators_[static_cast<size_t>(m)];
     // W_gh's part, in the unknowns: normals as they are, friction rows through the generators.
     auto add = [&](const ContactBlock& W, const ContactGroup& h) {
       const int hi = static_cast<int>(&h - first_group);
       const int hb = lcp_base_[static_cast<size_t>(hi)], hm = lcp_member_[static_cast<size_t>(hi)];
-      const int Ph = h.points, Fh = frictionRowsOf(h), dh = generator_count_[static_cast<size_t>(hm)];
+      const int Ph = h.points, Fh = frictionRows(h), dh = generator_count_[static_cast<size_t>(hm)];
       const auto& Gh = generators_[static_cast<size_t>(hm)];
       for (int k = 0; k < Pg; ++k) {
         for (int l = 0; l < Ph; ++l) M(gb + k, hb + l) += W(k, l);

@@ -79,6 +79,11 @@ struct ContactGroup {
   mutable Vector3 surface_hint = Vector3::Zero();
 };
 
+// A group's friction rows: a patch with a torsion radius has three (two tangents, the torsion).
+inline int frictionRows(const ContactGroup& g) { return g.patch && g.radius > 0.0 ? 3 : 2; }
+// The friction's scaled coordinates (f_t, tau / r): the patch's ellipsoid is a ball there.
+inline Vector3 scaleOf(const ContactGroup& g) { return Vector3(1.0, 1.0, g.radius > 0.0 ? g.radius : 1.0); }
+
 // Whether g's friction is a patch's with a sampled limit surface (else a point's cone, or a patch's
 // ellipsoid where its points gave no surface).
 inline bool shaped(const ContactGroup& g) { return g.patch && g.radius > 0.0 && g.surface.samples > 0; }

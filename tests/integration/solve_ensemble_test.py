@@ -29,8 +29,8 @@ def main():
     one = rows(build, 1)
     if len(one) != len(CASES):
         failures.append(f"{len(CASES)} scenes, not {len(one)}")
-    for (scene, device, total, median, largest, worst, dense, position, cycles, deepest, median_deepest), (_, script, seconds) \
-            in zip(one, CASES):
+    for (scene, device, total, median, largest, worst, dense, position, cycles, exact, polytope, angle, deepest,
+         median_deepest), (_, script, seconds) in zip(one, CASES):
         cmd = [scenario, "--scene", os.path.join(ROOT, "scenes", scene), "--seconds", str(seconds)]
         if script:
             cmd += ["--device", "scripted:" + os.path.join(ROOT, "scenes", script)]
@@ -40,11 +40,14 @@ def main():
                 and int(dense) == solve["polish_rounds"] and int(position) == solve["position_unconverged"]
                 and abs(float(worst) - solve["max_residual"]) <= 0.06 * solve["max_residual"]
                 and int(cycles) == solve["polish_cycles"]
+                and int(exact) == solve["linearised_exact"] and int(polytope) == solve["linearised"]
+                and abs(float(angle) - solve["max_linearised_angle"]) <= 5e-4
                 and abs(float(deepest) - depth) <= 5e-4 and float(deepest) == float(median_deepest))
         print(f"{'ok  ' if same else 'FAIL'} {scene} {device}: {total} unconverged, {dense} dense solves, {position} "
-              f"position corrections unconverged, {cycles} cycles, {deepest} mm deepest (igms-scenario on the scene: "
+              f"position corrections unconverged, {cycles} cycles, {exact} / {polytope} islands on the linearised cone "
+              f"({angle} rad), {deepest} mm deepest (igms-scenario on the scene: "
               f"{solve['unconverged']}, {solve['polish_rounds']}, {solve['position_unconverged']}, {solve['polish_cycles']}, "
-              f"{depth:.4f} mm)")
+              f"{solve['linearised_exact']} / {solve['linearised']} ({solve['max_linearised_angle']:.3f}), {depth:.4f} mm)")
         if not same:
             failures.append(f"{scene} {device}")
     two = rows(build, 2)
