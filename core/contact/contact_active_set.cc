@@ -6,6 +6,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/contact/lu_in_place.h"
+
 namespace igms {
 
 namespace {
@@ -138,32 +140,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
 }
 
 // LU with partial pivoting of M_'s top-left nx x nx in place, then the two triangular solves, on x_.
-bool ContactActiveSet::luSolve(int nx) {
-  auto M = M_.topLeftCorner(nx, nx);
-  for (int k = 0; k < nx; ++k) {
-    int p = k;
-    for (int i = k + 1; i < nx; ++i)
-      if (std::abs(M(i, k)) > std::abs(M(p, k))) p = i;
-    if (!(std::abs(M(p, k)) > 0.0)) return false;
-    if (p != k) {
-      M.row(k).swap(M.row(p));
-      std::swap(x_[k], x_[p]);
-    }
-    const double d = M(k, k);
-    for (int i = k + 1; i < nx; ++i) {
-      const double f = M(i, k) / d;
-      if (f == 0.0) continue;
-      M.row(i).tail(nx - k - 1) -= f * M.row(k).tail(nx - k - 1);
-      x_[i] -= f * x_[k];
-    }
-  }
-  for (int k = nx - 1; k >= 0; --k) {
-    double x = x_[k];
-    for (int j = k + 1; j < nx; ++j) x -= M(k, j) * x_[j];
-    x_[k] = x / M(k, k);
-  }
-  return true;
-}
+bool ContactActiveSet::luSolve(int nx) { return luSolveInPlace(M_.topLeftCorner(nx, nx), x_.head(nx), nx); }
 
 // An active-set method on one island: from the sweeps' guess, solve the tight rows exactly; where the
 // answer breaks a condition (a normal pulls, a free point crosses, a sticking friction leaves the cone,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/contact/lu_in_place.h"
+
 namespace igms {
 
 Lemke::Lemke(int capacity)
@@ -47,28 +49,7 @@ bool Lemke::finish(const Eigen::Ref<const MatrixX>& M, const Eigen::Ref<const Ve
     for (int c = 0; c < nz; ++c) A(r, c) = M(chosen_[static_cast<size_t>(r)], chosen_[static_cast<size_t>(c)]);
     x_[r] = -q[chosen_[static_cast<size_t>(r)]];
   }
-  // Gaussian elimination with partial pivoting, in place.
-  for (int k = 0; k < nz; ++k) {
-    int p = k;
-    for (int i = k + 1; i < nz; ++i)
-      if (std::abs(A(i, k)) > std::abs(A(p, k))) p = i;
-    if (!(std::abs(A(p, k)) > 0.0)) return false;
-    if (p != k) {
-      A.row(k).swap(A.row(p));
-      std::swap(x_[k], x_[p]);
-    }
-    for (int i = k + 1; i < nz; ++i) {
-      const double f = A(i, k) / A(k, k);
-      if (f == 0.0) continue;
-      A.row(i).tail(nz - k - 1) -= f * A.row(k).tail(nz - k - 1);
-      x_[i] -= f * x_[k];
-    }
-  }
-  for (int k = nz - 1; k >= 0; --k) {
-    double v = x_[k];
-    for (int j = k + 1; j < nz; ++j) v -= A(k, j) * x_[j];
-    x_[k] = v / A(k, k);
-  }
+  if (!luSolveInPlace(A, x_.head(nz), nz)) return false;
   z.head(n).setZero();
   for (int r = 0; r < nz; ++r) z[chosen_[static_cast<size_t>(r)]] = x_[r];
   // w = M z + q >= 0, z >= 0, and one of them 0 in each row, to round-off of the problem's size.
