@@ -33,14 +33,6 @@ void scaledFriction(const ContactGroup& g, Vector3& s, Vector3& w) {
   }
 }
 
-// The size of friction s in the scaled coordinates: mu N on the edge of the cone, the ellipsoid or the
-// patch's limit surface.
-double frictionSize(const ContactGroup& g, const Vector3& s) {
-  return shaped(g) ? limitSize(g.surface, s, &g.surface_hint) : s.norm();
-}
-// The friction per mu N against slip w (w not 0): on the edge, opposite -w in the dissipation's sense.
-Vector3 againstSlip(const ContactGroup& g, const Vector3& w) { return shaped(g) ? limitGradient(g.surface, w) : w / w.norm(); }
-
 // The trial's load on a group's touching (unknown) normals.
 double tightLoad(const ContactGroup& g) {
   double N = 0.0;

@@ -41,15 +41,6 @@ int baseDirections(int rows, Vector3* out) {
   return k;
 }
 
-// The point of g's cone (limit surface) edge, per unit mu N, in the scaled coordinates: towards
-// direction s (along s for the ball), or against slip w.
-Vector3 edgeToward(const ContactGroup& g, const Vector3& s) {
-  return s / (shaped(g) ? limitSize(g.surface, s, &g.surface_hint) : s.norm());
-}
-Vector3 edgeAgainst(const ContactGroup& g, const Vector3& w) {
-  return shaped(g) ? Vector3(-limitGradient(g.surface, w)) : Vector3(-w / w.norm());
-}
-
 }  // namespace
 
 bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double tolerance) {
@@ -68,10 +59,10 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
     Vector3 dirs[kMaxGenerators];
     const int nd = baseDirections(F, dirs);
     auto& G = generators_[static_cast<size_t>(m)];
-    for (int d = 0; d < nd; ++d) G.col(count++) = edgeToward(g, dirs[d]).cwiseProduct(scale);
+    for (int d = 0; d < nd; ++d) G.col(count++) = (dirs[d] / frictionSize(g, dirs[d])).cwiseProduct(scale);
     Vector3 s = Vector3::Zero();  // the sweeps' friction, where it has one
     for (int f = 0; f < F; ++f) s[f] = g.lambda[P + f] / scale[f];
-    if (s.norm() > 0.0) G.col(count++) = edgeToward(g, s).cwiseProduct(scale);
+    if (s.norm() > 0.0) G.col(count++) = (s / frictionSize(g, s)).cwiseProduct(scale);
   }
   int size = 0;  // each member's unknowns: its normals, its generators' weights, its slip speed
   for (int m = 0; m < n; ++m) {
@@ -118,7 +109,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
     Vector3 w = Vector3::Zero();
     for (int f = 0; f < F; ++f) w[f] = g.trial_u[P + f] * scale[f];
     if (!(w.norm() > tolerance) || !(N > 0.0)) continue;  // a slip within the tolerance: any direction
-    const Vector3 against = edgeAgainst(g, w);
+    const Vector3 against = -againstSlip(g, w);  // on the edge, per unit mu N
     Vector3 s = Vector3::Zero();  // the polytope's friction
     for (int f = 0; f < F; ++f) s[f] = g.trial[P + f] / scale[f];
     if (s.norm() > 0.0) {

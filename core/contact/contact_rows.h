@@ -87,6 +87,15 @@ inline Vector3 scaleOf(const ContactGroup& g) { return Vector3(1.0, 1.0, g.radiu
 // Whether g's friction is a patch's with a sampled limit surface (else a point's cone, or a patch's
 // ellipsoid where its points gave no surface).
 inline bool shaped(const ContactGroup& g) { return g.patch && g.radius > 0.0 && g.surface.samples > 0; }
+// The size of friction s in the scaled coordinates: mu N on the edge of the cone, the ellipsoid or the
+// patch's limit surface.
+inline double frictionSize(const ContactGroup& g, const Vector3& s) {
+  return shaped(g) ? limitSize(g.surface, s, &g.surface_hint) : s.norm();
+}
+// The friction per mu N against slip w (w not 0): on the edge, opposite -w in the dissipation's sense.
+inline Vector3 againstSlip(const ContactGroup& g, const Vector3& w) {
+  return shaped(g) ? limitGradient(g.surface, w) : w / w.norm();
+}
 
 // Newton's restitution applies at a point that approaches at `approach` (m/s, from the step's start),
 // faster than bounce_velocity, and reaches the surface within the step at normal speed u.
