@@ -72,7 +72,8 @@ class ContactActiveSet {
   // The island's LCP on the linearised cone, solved: its answer kept, and the impulses seeded from it.
   // \return it had one.
   bool linearisedIsland(ContactRows& rows, int n, double tolerance);
-  void assembleLinearised(ContactRows& rows, int n, int size);
+  double assembleLinearised(ContactRows& rows, int n, int size);
+  void regulariseLinearised(ContactRows& rows, int n, double amount);
   void keepLinearisedAnswer(ContactRows& rows, int n);
   std::vector<int> island_, queue_, members_, stamp_;
   std::vector<int> restuck_;  // per member: times its friction went back from slipping to sticking in this polish
@@ -112,6 +113,10 @@ class ContactActiveSet {
   };
   std::vector<Broken> broken_;
   // The linearised cone: islands of at most kLinearisedGroups pairs and kLinearisedRows unknowns.
+  // The LCP's regularisation, relative to its largest normal diagonal; where Lemke's answer fails its
+  // check, again with each larger one in turn (its pivots on near-singular redundant normals lose digits).
+  static constexpr double kLinearisedRegularisation = 1e-12;
+  static constexpr double kLinearisedRetries[] = {1e-8, 1e-6};
   static constexpr int kLinearisedGroups = 32, kLinearisedRows = 384, kMaxGenerators = 19;  // a patch's 18 and the sweeps' friction
   Lemke lemke_{kLinearisedRows};
   MatrixX lcp_M_ = MatrixX(kLinearisedRows, kLinearisedRows);
