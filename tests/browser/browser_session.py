@@ -129,8 +129,18 @@ class Page:
     def visible(self, element_id):
         return self.js("return !document.getElementById(arguments[0]).hidden", element_id)
 
+    def wait_drawn(self, timeout=20):
+        """Waits until every mesh has loaded and the page has drawn twice since
+        the call, so the canvas holds the latest frame: a loaded machine can
+        answer before its first draw, and the canvas is then one colour."""
+        drawn = self.state("framesDrawn") or 0
+        wait_for("the page to draw", lambda: self.js(
+            "return window.igms.robot.meshesPending === 0 && window.igms.state.framesDrawn >= arguments[0] + 2",
+            drawn), timeout)
+
     def canvas_pixels(self, size=240):
         """The drawn canvas, scaled down, as a flat list of RGB values."""
+        self.wait_drawn()
         return self.js("""
             const src = document.querySelector('#view canvas');
             const c = document.createElement('canvas');
