@@ -74,7 +74,10 @@ class ContactActiveSet {
   bool linearisedIsland(ContactRows& rows, int n, double tolerance);
   double assembleLinearised(ContactRows& rows, int n, int size);
   void regulariseLinearised(ContactRows& rows, int n, double amount);
+  // The polytope's answer as it is (a seed, or the island's answer where no seed settled).
   void keepLinearisedAnswer(ContactRows& rows, int n);
+  // The polytope's answer with each slipping friction carried out to the cone's edge, in its direction.
+  void seedLinearisedOnEdge(ContactRows& rows, int n);
   std::vector<int> island_, queue_, members_, stamp_;
   std::vector<int> restuck_;  // per member: times its friction went back from slipping to sticking in this polish
   // One round's dense system (its top-left nx x nx of kPolishRows square, allocated once), right side

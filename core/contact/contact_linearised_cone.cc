@@ -7,10 +7,11 @@
 //   G^T u_f + sigma >= 0  _|_  beta >= 0        (the friction: the generators most against the slip)
 //   mu N - sum beta >= 0  _|_  sigma >= 0       (it slips only on the polytope's edge)
 // The polytope is coarse (every 45 degrees; a patch's torsion rings at +-45 degrees and the pure spins)
-// and has the sweeps' friction. Its answer seeds the active set once more, each slipping friction
-// turned against its slip on the true cone; where that settles, the island's answer is exact, else it
-// keeps the polytope's (counted: ContactActiveSet::linearised()). The solver asks for it once two
-// polishes have failed (contact_solver.cc): it costs a few dense solves of the island.
+// and has the sweeps' friction. Its answer seeds the active set once more, in up to three ways
+// (contact_active_set.cc): each slipping friction turned against its slip on the true cone, the answer
+// as it is, each slipping friction carried out to the cone's edge; where one settles, the island's
+// answer is exact, else it keeps the polytope's (counted: ContactActiveSet::linearised()). The solver
+// asks for it once two polishes have failed (contact_solver.cc): it costs a few dense solves of the island.
 #include <algorithm>
 #include <cmath>
 
@@ -206,6 +207,25 @@ void ContactActiveSet::regulariseLinearised(ContactRows& rows, int n, double amo
     const ContactGroup& g = member(rows, m);
     const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
     for (int r = 0; r < g.points + generator_count_[static_cast<size_t>(m)]; ++r) lcp_M_(gb + r, gb + r) += amount;
+  }
+}
+
+void ContactActiveSet::seedLinearisedOnEdge(ContactRows& rows, int n) {
+  const ContactGroup* const first_group = &rows.group(0);
+  for (int m = 0; m < n; ++m) {
+    ContactGroup& g = member(rows, m);
+    g.lambda = linearised_answer_[static_cast<size_t>(m)];
+    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
+    if (d == 0 || !(lcp_z_[gb + P + d] > 0.0)) continue;  // not slipping (sigma = 0)
+    double N = 0.0;
+    for (int k = 0; k < (g.patch ? P : 1); ++k) N += g.lambda[k];
+    const Vector3 scale = scaleOf(g);
+    Vector3 s = Vector3::Zero();
+    for (int f = 0; f < F; ++f) s[f] = g.lambda[P + f] / scale[f];
+    if (!(s.norm() > 0.0) || !(N > 0.0)) continue;
+    const double size = frictionSize(g, s);
+    for (int f = 0; f < F; ++f) g.lambda[P + f] = g.mu * N * scale[f] * s[f] / size;
   }
 }
 
