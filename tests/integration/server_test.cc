@@ -7,9 +7,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "channels.h"
 #include "igms/command_t.hpp"
@@ -85,9 +89,25 @@ class Listener {
   std::thread thread_;
 };
 
-ChildProcess startServer(const std::string& scene) {
-  return ChildProcess({std::getenv("IGMS_SERVER_BIN"), "--scene", sourceDir() + "/scenes/" + scene, "--lcm-url", url(),
-                       "--session-token", std::to_string(kToken), "--quiet", "--output-dir", ::testing::TempDir()});
+ChildProcess startServerOn(const std::string& scene_path) {
+  return ChildProcess({std::getenv("IGMS_SERVER_BIN"), "--scene", scene_path, "--lcm-url", url(), "--session-token",
+                       std::to_string(kToken), "--quiet", "--output-dir", ::testing::TempDir()});
+}
+
+ChildProcess startServer(const std::string& scene) { return startServerOn(sourceDir() + "/scenes/" + scene); }
+
+// A copy of a shipped scene in the test's folder, each `edits` pair's first text replaced by its second
+// (a model's relative path made absolute, say).
+std::string editedScene(const std::string& scene, const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = readFile(sourceDir() + "/scenes/" + scene);
+  for (const auto& [from, to] : edits) {
+    const size_t at = text.find(from);
+    if (at == std::string::npos) ADD_FAILURE() << scene << " has no '" << from << "'";
+    else text.replace(at, from.size(), to);
+  }
+  const std::string path = ::testing::TempDir() + "/edited_" + scene;
+  std::ofstream(path) << text;
+  return path;
 }
 
 haptic_input_t input(int64_t seq, int8_t mode, const Vector3& tip) {
@@ -158,10 +178,9 @@ TEST(Server, TheStatusCountsTheContactSolves) {
   EXPECT_LE(st.contact_residual_max, 1e-10);
 }
 
-// A solve counted converged can keep a slipping friction the active set could not turn against its slip,
-// or an island's answer on the linearised cone's polytope; the status says so. puma_table's first such
-// answers come at steps 2440 (1.54 rad from opposing the slip) and 2438 (0.23 rad), none before: the
-// counts and the angles reach the status, and read 0 until then.
+// A solve counted converged can keep a slipping friction the active set could not turn against its slip;
+// the status says so. puma_table's first such answer comes at step 2440 (1.54 rad from opposing the
+// slip), none before: the count and the angle reach the status, and read 0 until then.
 TEST(Server, TheStatusCountsTheSlipsLeftUnturned) {
   Listener listener;
   ChildProcess server = startServer("puma_table.yaml");
@@ -173,18 +192,41 @@ TEST(Server, TheStatusCountsTheSlipsLeftUnturned) {
     EXPECT_GT(listener.status.contact_solves, 0);
     EXPECT_EQ(listener.status.contact_slips_unturned, 0);
     EXPECT_LT(listener.slip_angle_max, 1e-6);
-    EXPECT_EQ(listener.status.contact_linearised, 0);
-    EXPECT_EQ(listener.linearised_angle_max, 0.0);
   }
   ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.6; }));
   std::lock_guard<std::mutex> l(listener.mutex);
   EXPECT_GE(listener.status.contact_slips_unturned, 1);
   EXPECT_GT(listener.slip_angle_max, 1.5);
   EXPECT_LE(listener.slip_angle_max, M_PI);
-  EXPECT_GE(listener.status.contact_linearised, 1);
-  EXPECT_GT(listener.linearised_angle_max, 0.2);
-  EXPECT_LE(listener.linearised_angle_max, M_PI);
   EXPECT_EQ(listener.status.contact_unconverged, 0) << "26 in 8 s before the linearised cone";
+}
+
+// An island the active set could not settle even from the linearised cone's answer keeps that answer
+// on the polytope; the status counts it. puma_table's default run has none since the answer seeds the
+// active set three ways (contact_active_set.cc); with box_a moved 5 nm along x (as
+// scripts/bench/solve_ensemble.py moves it) the first comes at step 2667 (0.459 rad from opposing its
+// slip), none before: the count and the angle reach the status, and read 0 until then.
+TEST(Server, TheStatusCountsTheIslandsLeftOnThePolytope) {
+  Listener listener;
+  ChildProcess server = startServerOn(editedScene(
+      "puma_table.yaml", {{"../models/puma560.urdf", sourceDir() + "/models/puma560.urdf"},
+                          {"name: box_a, shape: box, size: [0.08, 0.08, 0.08], mass: 0.3, xyz: [0.42,",
+                           "name: box_a, shape: box, size: [0.08, 0.08, 0.08], mass: 0.3, xyz: [0.420000005,"}}));
+  ASSERT_TRUE(listener.waitForStatus(1, 10.0));
+  ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.45; }));
+  {
+    std::lock_guard<std::mutex> l(listener.mutex);
+    ASSERT_LT(listener.status.sim_time, 2.667) << "the status period is 0.1 s";
+    EXPECT_GT(listener.status.contact_solves, 0);
+    EXPECT_EQ(listener.status.contact_linearised, 0);
+    EXPECT_EQ(listener.linearised_angle_max, 0.0);
+  }
+  ASSERT_TRUE(listener.waitUntil(8.0, [&] { return listener.status.sim_time > 2.8; }));
+  std::lock_guard<std::mutex> l(listener.mutex);
+  EXPECT_GE(listener.status.contact_linearised, 1);
+  EXPECT_GT(listener.linearised_angle_max, 0.4);
+  EXPECT_LE(listener.linearised_angle_max, M_PI);
+  EXPECT_EQ(listener.status.contact_unconverged, 0);
 }
 
 // The paper's nominal motion takes the PUMA's wrist (joint5) to 115 deg, past its URDF limit of 100 deg,
