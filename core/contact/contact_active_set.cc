@@ -117,7 +117,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
       // friction turned against its slip on the cone's edge; the polytope's answer as it is (a friction
       // inside the cone there is a guess of sticking); each slipping friction carried out to the cone's
       // edge in its own direction. Over 12 runs of each of solve_ensemble.py's cases, `puma_table`'s
-      // islands left on the polytope were 253 with the first alone, 98 with two, 51 with three
+      // islands left on the polytope were 253 with the first alone, 98 with two, 50 with three
       // (docs/environment.md, "A second and a third seed").
       bool exact = polishIsland(rows, n, tolerance);
       if (!exact) {
