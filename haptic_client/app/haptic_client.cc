@@ -9,6 +9,7 @@
 #include "bus/bus_key.h"
 #include "core/realtime/clock.h"
 #include "core/realtime/realtime_priority.h"
+#include "core/realtime/udp_drops.h"
 #include "core/scene/resolved_scene.h"
 #include "haptic_client/device/device_registry.h"
 #include "haptic_client/device/scripted_device.h"
@@ -247,8 +248,13 @@ int runClient(const ClientOptions& o, const std::atomic<bool>& stop) {
     printSummary(stats, wall);
     printDeviceSummary(stats, *device);
   }
-  if (!o.quiet || bus.verifier().keyed() || bus.verifier().counts().refusedTotal() > 0)
+  if (!o.quiet || bus.verifier().keyed() || bus.verifier().counts().refusedTotal() > 0) {
     std::fprintf(stderr, "igms-haptic: bus: %s\n", bus.verifier().summary().c_str());
+    // A late reply is a state that came after a newer one: on a signed bus, only a state this
+    // client missed (lost on its socket) can come again, replayed, and be late; these say how many.
+    std::fprintf(stderr, "igms-haptic: %lld states missed (gaps in their seq), %lld datagrams dropped on full sockets\n",
+                 static_cast<long long>(bus.statesMissed()), static_cast<long long>(ownUdpDrops()));
+  }
   if (bus.undecodable() > 0)
     std::fprintf(stderr, "igms-haptic: %lld messages could not be decoded and were ignored\n",
                  static_cast<long long>(bus.undecodable()));
