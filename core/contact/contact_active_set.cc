@@ -111,26 +111,21 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
     }
     std::sort(members_.begin(), members_.begin() + n);  // a fixed order for the unknowns
     bool settled = polishIsland(rows, n, tolerance);
-    if (!settled && linearise && linearisedIsland(rows, n, tolerance)) {
-      settled = true;
-      // Three seeds from the answer, each tried where the one before did not settle: each slipping
-      // friction turned against its slip on the cone's edge; the polytope's answer as it is (a friction
-      // inside the cone there is a guess of sticking); each slipping friction carried out to the cone's
-      // edge in its own direction. Over 12 runs of each of solve_ensemble.py's cases, `puma_table`'s
-      // islands left on the polytope were 253 with the first alone, 98 with two, 50 with three
-      // (docs/environment.md, "A second and a third seed").
-      bool exact = polishIsland(rows, n, tolerance);
-      if (!exact) {
-        keepLinearisedAnswer(rows, n);
-        exact = polishIsland(rows, n, tolerance);
+    if (!settled && linearise) {
+      // Each polytope in turn (kPolytopes) answers the island, and its answer seeds the active set;
+      // the first seed that settles makes the island exact. Where none does, the island keeps the last
+      // polytope's answer (the finest Lemke's method answered).
+      bool answered = false, exact = false;
+      for (const int around : kPolytopes) {
+        if (!linearisedIsland(rows, n, tolerance, around)) continue;
+        answered = true;
+        exact = seededFromLinearised(rows, n, tolerance);
+        if (exact) break;
       }
-      if (!exact) {
-        seedLinearisedOnEdge(rows, n);
-        exact = polishIsland(rows, n, tolerance);
-      }
+      settled = answered;
       if (exact) {
         ++linearised_exact_;
-      } else {
+      } else if (answered) {
         keepLinearisedAnswer(rows, n);
         ++linearised_;
         linearised_angle_ = std::max(linearised_angle_, island_angle_);

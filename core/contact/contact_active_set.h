@@ -71,7 +71,10 @@ class ContactActiveSet {
   uint64_t guessKey(ContactRows& rows, int n);
   // The island's LCP on the linearised cone, solved: its answer kept, and the impulses seeded from it.
   // \return it had one.
-  bool linearisedIsland(ContactRows& rows, int n, double tolerance);
+  // around: the polytope's directions around the tangent plane (0: the sweeps' friction alone).
+  bool linearisedIsland(ContactRows& rows, int n, double tolerance, int around);
+  // The answer's seeds, tried in turn. \return one settled the island (its answer exact).
+  bool seededFromLinearised(ContactRows& rows, int n, double tolerance);
   double assembleLinearised(ContactRows& rows, int n, int size);
   void regulariseLinearised(ContactRows& rows, int n, double amount);
   // The polytope's answer as it is (a seed, or the island's answer where no seed settled).
@@ -120,7 +123,13 @@ class ContactActiveSet {
   // check, again with each larger one in turn (its pivots on near-singular redundant normals lose digits).
   static constexpr double kLinearisedRegularisation = 1e-12;
   static constexpr double kLinearisedRetries[] = {1e-8, 1e-6};
-  static constexpr int kLinearisedGroups = 32, kLinearisedRows = 384, kMaxGenerators = 19;  // a patch's 18 and the sweeps' friction
+  // The polytopes tried in turn, by their directions around the tangent plane: every 45 degrees; the
+  // sweeps' friction alone (a seed unlike the others'); every 22.5 and 11.25 degrees. Over the 48 runs
+  // of solve_ensemble.py's three ensembles, the first alone left 131 islands on the polytope, the four
+  // 6 (docs/environment.md, "Seeds and polytopes").
+  static constexpr int kPolytopes[] = {8, 0, 16, 32};
+  static constexpr int kLinearisedGroups = 32, kLinearisedRows = 384;
+  static constexpr int kMaxGenerators = 2 * 32 + 2 + 1;  // the finest patch's (its rings, the spins) and the sweeps' friction
   Lemke lemke_{kLinearisedRows};
   MatrixX lcp_M_ = MatrixX(kLinearisedRows, kLinearisedRows);
   VectorX lcp_q_ = VectorX(kLinearisedRows), lcp_z_ = VectorX(kLinearisedRows);

@@ -6,12 +6,13 @@
 //   u_n - u*        >= 0  _|_  lambda_n >= 0
 //   G^T u_f + sigma >= 0  _|_  beta >= 0        (the friction: the generators most against the slip)
 //   mu N - sum beta >= 0  _|_  sigma >= 0       (it slips only on the polytope's edge)
-// The polytope is coarse (every 45 degrees; a patch's torsion rings at +-45 degrees and the pure spins)
-// and has the sweeps' friction. Its answer seeds the active set once more, in up to three ways
-// (contact_active_set.cc): each slipping friction turned against its slip on the true cone, the answer
-// as it is, each slipping friction carried out to the cone's edge; where one settles, the island's
-// answer is exact, else it keeps the polytope's (counted: ContactActiveSet::linearised()). The solver
-// asks for it once two polishes have failed (contact_solver.cc): it costs a few dense solves of the island.
+// The polytope has `around` directions in the tangent plane (a patch's torsion: rings of around / 2 at
+// +-45 degrees and the pure spins) and the sweeps' friction; with none around, the sweeps' friction
+// alone. Its answer seeds the active set once more, in up to three ways (seededFromLinearised()); where
+// one settles, the island's answer is exact. Else the next polytope of ContactActiveSet::kPolytopes is
+// tried, and after the last the island keeps the polytope's answer (counted:
+// ContactActiveSet::linearised()). The solver asks for it once two polishes have failed
+// (contact_solver.cc): it costs a few dense solves of the island per polytope.
 #include <algorithm>
 #include <cmath>
 
@@ -21,18 +22,18 @@ namespace igms {
 
 namespace {
 
-// Directions in the friction's scaled coordinates: around the tangent plane every 45 degrees; for a
-// patch's torsion, rings of four at +-45 degrees between them and the two pure spins.
-int baseDirections(int rows, Vector3* out) {
+// Directions in the friction's scaled coordinates: `around` in the tangent plane; for a patch's
+// torsion, rings of around / 2 at +-45 degrees between them and the two pure spins.
+int baseDirections(int rows, int around, Vector3* out) {
   int k = 0;
-  for (int i = 0; i < 8; ++i) {
-    const double a = 2.0 * M_PI * i / 8.0;
+  for (int i = 0; i < around; ++i) {
+    const double a = 2.0 * M_PI * i / around;
     out[k++] = Vector3(std::cos(a), std::sin(a), 0.0);
   }
   if (rows == 3) {
     const double c = std::sqrt(0.5);
-    for (int i = 0; i < 4; ++i) {
-      const double a = 2.0 * M_PI * (i + 0.5) / 4.0;
+    for (int i = 0; i < around / 2; ++i) {
+      const double a = 2.0 * M_PI * (i + 0.5) / (around / 2);
       out[k++] = Vector3(c * std::cos(a), c * std::sin(a), c);
       out[k++] = Vector3(c * std::cos(a), c * std::sin(a), -c);
     }
@@ -44,7 +45,7 @@ int baseDirections(int rows, Vector3* out) {
 
 }  // namespace
 
-bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double tolerance) {
+bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double tolerance, int around) {
   auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
   if (n > kLinearisedGroups) return false;
   const ContactGroup* const first_group = &rows.group(0);
@@ -58,7 +59,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
     const int F = frictionRows(g), P = g.points;
     const Vector3 scale = scaleOf(g);
     Vector3 dirs[kMaxGenerators];
-    const int nd = baseDirections(F, dirs);
+    const int nd = baseDirections(F, around, dirs);
     auto& G = generators_[static_cast<size_t>(m)];
     for (int d = 0; d < nd; ++d) G.col(count++) = (dirs[d] / frictionSize(g, dirs[d])).cwiseProduct(scale);
     Vector3 s = Vector3::Zero();  // the sweeps' friction, where it has one
@@ -227,6 +228,20 @@ void ContactActiveSet::seedLinearisedOnEdge(ContactRows& rows, int n) {
     const double size = frictionSize(g, s);
     for (int f = 0; f < F; ++f) g.lambda[P + f] = g.mu * N * scale[f] * s[f] / size;
   }
+}
+
+// Three seeds from the answer, each tried where the one before did not settle: each slipping friction
+// turned against its slip on the cone's edge (as linearisedIsland() left it); the polytope's answer as
+// it is (a friction inside the cone there is a guess of sticking); each slipping friction carried out
+// to the cone's edge in its own direction. Over 12 runs of each of solve_ensemble.py's cases, with the
+// first polytope alone, puma_table's islands left on it were 253 with the first seed, 98 with two, 50
+// with three (docs/environment.md, "Seeds and polytopes").
+bool ContactActiveSet::seededFromLinearised(ContactRows& rows, int n, double tolerance) {
+  if (polishIsland(rows, n, tolerance)) return true;
+  keepLinearisedAnswer(rows, n);
+  if (polishIsland(rows, n, tolerance)) return true;
+  seedLinearisedOnEdge(rows, n);
+  return polishIsland(rows, n, tolerance);
 }
 
 void ContactActiveSet::keepLinearisedAnswer(ContactRows& rows, int n) {
