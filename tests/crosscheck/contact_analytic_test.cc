@@ -819,9 +819,9 @@ TEST(ContactAnalytic, TheActiveSetLeavesNoGuessTwice) {
   EXPECT_EQ(unconverged, 0) << "2 before Lemke's failed checks were solved again, 170 before the linearised cone; 189 "
                                "with the worst broken condition's change always taken";
   EXPECT_EQ(lemke_failed, 0) << "18 before its failed checks were solved again";
-  EXPECT_LE(polytope, 5) << "measured 1; with the first polytope alone 50, 98 with two seeds (no seed on the cone's "
+  EXPECT_LE(polytope, 5) << "measured 2; with the first polytope alone 50, 98 with two seeds (no seed on the cone's "
                             "edge), 253 with the answer turned against each slip as the only seed";
-  EXPECT_LE(angle, 0.35) << "measured 0.237; 0.48 with the first polytope alone (every 45 degrees)";
+  EXPECT_LE(angle, 0.45) << "measured 0.331; 0.48 with the first polytope alone (every 45 degrees)";
 }
 
 // Where the active set cannot settle an island (its sliding system not a P-matrix: principal pivoting
