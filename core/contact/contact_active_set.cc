@@ -113,12 +113,20 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
     bool settled = polishIsland(rows, n, tolerance);
     if (!settled && linearise) {
       // Each polytope in turn (kPolytopes) answers the island, and its answer seeds the active set;
-      // the first seed that settles makes the island exact. Where none does, the island keeps the last
-      // polytope's answer (the finest Lemke's method answered).
+      // the first seed that settles makes the island exact. Where none does, the island keeps the
+      // answer of the finest polytope Lemke's method answered (never the sweeps' friction alone where a
+      // polytope around the cone answered: that one leaves a friction where the sweeps had it).
       bool answered = false, exact = false;
+      int kept_around = -1;
+      double kept_angle = 0.0;
       for (const int around : kPolytopes) {
         if (!linearisedIsland(rows, n, tolerance, around)) continue;
         answered = true;
+        if (around > kept_around) {
+          std::copy(linearised_answer_.begin(), linearised_answer_.begin() + n, kept_answer_.begin());
+          kept_around = around;
+          kept_angle = island_angle_;
+        }
         exact = seededFromLinearised(rows, n, tolerance);
         if (exact) break;
       }
@@ -126,9 +134,9 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
       if (exact) {
         ++linearised_exact_;
       } else if (answered) {
-        keepLinearisedAnswer(rows, n);
+        for (int m = 0; m < n; ++m) member(rows, m).lambda = kept_answer_[static_cast<size_t>(m)];
         ++linearised_;
-        linearised_angle_ = std::max(linearised_angle_, island_angle_);
+        linearised_angle_ = std::max(linearised_angle_, kept_angle);
       }
     }
     all = settled && all;

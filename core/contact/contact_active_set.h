@@ -139,6 +139,7 @@ class ContactActiveSet {
       std::vector<Eigen::Matrix<double, 3, kMaxGenerators>>(kLinearisedGroups);
   std::vector<int> generator_count_ = std::vector<int>(kLinearisedGroups);
   std::vector<ContactRowVector> linearised_answer_ = std::vector<ContactRowVector>(kLinearisedGroups);
+  std::vector<ContactRowVector> kept_answer_ = std::vector<ContactRowVector>(kLinearisedGroups);  // the finest polytope's
   int linearised_exact_ = 0, linearised_ = 0;
   double island_angle_ = 0.0, linearised_angle_ = 0.0;  // the last linearised island's, the polish's largest kept
   int64_t linearised_failed_ = 0;
