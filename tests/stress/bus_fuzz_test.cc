@@ -246,6 +246,21 @@ class Watcher {
     if (!safeDecode(b->data, b->data_size, &s)) return;
     std::lock_guard<std::mutex> l(w->mutex);
     w->bus[s.program] = s;
+    ++w->bus_count[s.program];
+  }
+  // Waits for `n` more bus statuses of `program` (1 Hz: a count read before is up to a second old).
+  bool freshBus(const std::string& program, int n, double seconds) {
+    int64_t b0;
+    {
+      std::lock_guard<std::mutex> l(mutex);
+      b0 = bus_count[program];
+    }
+    for (int k = 0; k < seconds * 100; ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      std::lock_guard<std::mutex> l(mutex);
+      if (bus_count[program] >= b0 + n) return true;
+    }
+    return false;
   }
   // Waits for `n` more statuses of each.
   bool fresh(int n, double seconds) {
@@ -266,6 +281,7 @@ class Watcher {
   server_status_t server{};
   client_status_t client{};
   std::map<std::string, bus_status_t> bus;
+  std::map<std::string, int64_t> bus_count;
   int64_t server_count = 0, client_count = 0;
 
  private:
@@ -453,22 +469,30 @@ TEST(BusFuzz, FloodOfInputs) {
   b.join();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_TRUE(watch.fresh(3, 10.0));
+  ASSERT_TRUE(watch.freshBus("igms-server", 2, 10.0)) << "the second is published wholly after the flood";
   const long rss_after = rssKb(s.server.pid());
   std::lock_guard<std::mutex> l(watch.mutex);
+  int64_t refused = 0;  // for any reason (a trailer of random bytes may not parse: unsigned)
+  for (const int64_t r : watch.bus["igms-server"].refused) refused += r;
+  const int64_t checked = key.keyed() ? refused : watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN];
+  const int64_t dropped = watch.server.socket_drops;
   std::printf("flood: %lld inputs in %.2f s (%.0f/s); server rate at worst %.0f Hz; rejected (token) %lld, refused "
-              "(bad signature) %lld; RSS %ld kB before, %ld kB after\n",
+              "(bad signature) %lld, refused (any reason) %lld, dropped on the server's full sockets %lld; RSS %ld kB before, "
+              "%ld kB after\n",
               static_cast<long long>(sent.load()), seconds, static_cast<double>(sent) / seconds, worst_rate,
               static_cast<long long>(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN]),
-              static_cast<long long>(watch.bus["igms-server"].refused[bus_status_t::REFUSED_BAD_SIGNATURE]), rss_before,
-              rss_after);
+              static_cast<long long>(watch.bus["igms-server"].refused[bus_status_t::REFUSED_BAD_SIGNATURE]),
+              static_cast<long long>(refused), static_cast<long long>(dropped), rss_before, rss_after);
   EXPECT_GE(static_cast<double>(sent) / seconds, 40000.0) << "the flood was a flood";
   // Two publishers, the server, the viewer and the logger share 2 cores here: the server may lose a few
   // percent of its cycles to the scheduler (965 Hz seen in CI) but must not stall or fall behind for good.
   EXPECT_GE(worst_rate, 900.0) << "the server keeps its rate through the flood";
-  if (key.keyed())
-    EXPECT_GT(watch.bus["igms-server"].refused[bus_status_t::REFUSED_BAD_SIGNATURE], sent / 2);
-  else
-    EXPECT_GT(watch.server.rejected_by_reason[server_status_t::REJECT_TOKEN], sent / 2);
+  // Each forged input was refused at the server's check, or dropped by the kernel on its full socket
+  // before that (the other channels' datagrams it drops count too), and counted either way. The share
+  // that reaches the check is the CPU time the server gets: 97,735 of 238,356 in a CI run whose host
+  // took 19-37 % of the VM's time (stop 73).
+  EXPECT_GE(static_cast<double>(checked + dropped), 0.95 * static_cast<double>(sent)) << "every input accounted for";
+  EXPECT_GT(checked, sent / 4) << "the server checked its share";
   EXPECT_LT(rss_after, rss_before + 20 * 1024) << "memory stays bounded";
   EXPECT_TRUE(s.server.running());
 }
