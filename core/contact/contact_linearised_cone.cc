@@ -10,7 +10,7 @@
 // +-45 degrees and the pure spins) and the sweeps' friction; with none around, the sweeps' friction
 // alone. Its answer seeds the active set once more, in up to three ways (seededFromLinearised()); where
 // one settles, the island's answer is exact. Else the next polytope of ContactActiveSet::kPolytopes is
-// tried, and after the last the island keeps the polytope's answer (counted:
+// tried, and after the last the island keeps the finest polytope's answer (counted:
 // ContactActiveSet::linearised()). The solver asks for it once two polishes have failed
 // (contact_solver.cc): it costs a few dense solves of the island per polytope.
 #include <algorithm>
