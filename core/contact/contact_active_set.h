@@ -77,7 +77,7 @@ class ContactActiveSet {
   bool seededFromLinearised(ContactRows& rows, int n, double tolerance);
   double assembleLinearised(ContactRows& rows, int n, int size);
   void regulariseLinearised(ContactRows& rows, int n, double amount);
-  // The polytope's answer as it is (a seed, or the island's answer where no seed settled).
+  // The polytope's answer as it is (a seed).
   void keepLinearisedAnswer(ContactRows& rows, int n);
   // The polytope's answer with each slipping friction carried out to the cone's edge, in its direction.
   void seedLinearisedOnEdge(ContactRows& rows, int n);
