@@ -255,12 +255,7 @@ class Watcher {
       std::lock_guard<std::mutex> l(mutex);
       b0 = bus_count[program];
     }
-    for (int k = 0; k < seconds * 100; ++k) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      std::lock_guard<std::mutex> l(mutex);
-      if (bus_count[program] >= b0 + n) return true;
-    }
-    return false;
+    return waitUntil(seconds, [&] { return bus_count[program] >= b0 + n; });
   }
   // Waits for `n` more statuses of each.
   bool fresh(int n, double seconds) {
@@ -270,12 +265,7 @@ class Watcher {
       s0 = server_count;
       c0 = client_count;
     }
-    for (int k = 0; k < seconds * 100; ++k) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      std::lock_guard<std::mutex> l(mutex);
-      if (server_count >= s0 + n && client_count >= c0 + n) return true;
-    }
-    return false;
+    return waitUntil(seconds, [&] { return server_count >= s0 + n && client_count >= c0 + n; });
   }
   std::mutex mutex;
   server_status_t server{};
@@ -285,6 +275,16 @@ class Watcher {
   int64_t server_count = 0, client_count = 0;
 
  private:
+  // Polls `done` (under the lock) every 10 ms for up to `seconds`.
+  template <typename Done>
+  bool waitUntil(double seconds, Done done) {
+    for (int k = 0; k < seconds * 100; ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      std::lock_guard<std::mutex> l(mutex);
+      if (done()) return true;
+    }
+    return false;
+  }
   lcm::LCM bus_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
