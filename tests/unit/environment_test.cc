@@ -252,6 +252,20 @@ TEST(Environment, TheStepAllocatesNothingWhileSlipsAreTurned) {
       << "islands on the linearised cone within the steps (53 measured)";
 }
 
+TEST(Environment, TheStepAllocatesNothingThroughEveryPolytope) {
+  // puma_table with box_a moved 111 nm: at step 2438 an island no seed of any of the three polytopes
+  // settles (ContactActiveSet::kPolytopes), so each polytope's LCP is built, solved and seeded.
+  Scene scene = shipped("puma_table.yaml");
+  scene.bodies.at(0).pose.p.x() += 111e-9;
+  Simulation sim(scene);
+  for (int k = 0; k < 20; ++k) ASSERT_TRUE(sim.step(nullptr));  // warm
+  const size_t n = test::allocationsDuring([&] {
+    for (int k = 0; k < 2580; ++k) sim.step(nullptr);
+  });
+  EXPECT_EQ(n, 0u);
+  EXPECT_GE(sim.contactStats().linearised, 1) << "an island kept a polytope's answer (step 2438)";
+}
+
 TEST(Environment, TheStepAllocatesNothingSharingOpposedOverlaps) {
   // A peg 0.4 mm wider than the U channel's slot: both walls overlap it, and the position correction
   // shares their overlap (contact_solver.cc) on the steps measured.
