@@ -6,7 +6,8 @@
 #       mujoco in .venv-peers, igms-peer-bench built in build-peers/), interleaved rounds, ratios
 #   scripts/bench/bench.sh --contact [--rounds N] [--steps N]    igms's step vs MuJoCo's mj_step on the contact scenes
 #       and dense piles of 27 to 1000 spheres (scripts/bench/pile_scene.py), the same models as MJCF from
-#       scripts/bench/contact_peers.py, interleaved, medians and ratios -> out/bench/contact*.json
+#       scripts/bench/contact_peers.py, interleaved, medians and ratios, how far each engine's free bodies went
+#       -> out/bench/contact*.json
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 scripts/setup/setup.sh >/dev/null
@@ -42,6 +43,12 @@ if [[ ${1:-} == --contact ]]; then
   .venv-peers/bin/python scripts/bench/contact_peers.py "${args[@]}" --out out/bench/mjcf
   build-peers/bench/igms-contact-bench --mjcf-dir out/bench/mjcf "${args[@]}" --json out/bench/contact.json "$@" |
     tee out/bench/contact.txt
+  [[ ${PIPESTATUS[0]} == 0 ]] || exit 1
+  # MuJoCo's lattice comes apart from about 2.5 s (its balls roll metres away), so the row above times
+  # igms's standing lattice against MuJoCo's scattered heap: its first second, where both stand, too.
+  echo "ball_lattice over its first second (no warm-up), where both engines' lattices stand:" | tee -a out/bench/contact.txt
+  build-peers/bench/igms-contact-bench --mjcf-dir out/bench/mjcf --scene scenes/ball_lattice.yaml --warm 0 --rounds 5 \
+    --steps 200 --json out/bench/contact_lattice_standing.json | tee -a out/bench/contact.txt
   exit "${PIPESTATUS[0]}"
 fi
 build/bench/igms-bench --json out/bench/igms_vs_kdl.json "$@" | tee out/bench/igms_vs_kdl.txt
