@@ -97,7 +97,7 @@ struct CoupledInputs {
   // drives.
   const std::vector<DofRange>* hold = nullptr;
   const std::vector<DofRange>* uncommanded = nullptr;
-  JointPd pd;
+  JointPd pd = {};
   // The step's contacts (the detection stage's, at its start state); the contact solve writes their
   // impulses. Null without contact.
   ContactSet* contacts = nullptr;

@@ -179,7 +179,9 @@ TEST(ContactDetection, TwoBodiesClosingFromBothSidesAreFound) {
     d.detectAt(q);
     if (rebuilds < 0) rebuilds = static_cast<int>(d.detection.nearRebuilds());
     ASSERT_EQ(d.set.n, gap < margin ? 1 : 0) << "gap " << gap;
-    if (d.set.n == 1) EXPECT_NEAR(d.set[0].distance, gap, 1e-12);
+    if (d.set.n == 1) {
+      EXPECT_NEAR(d.set[0].distance, gap, 1e-12);
+    }
   }
   EXPECT_EQ(d.detection.nearRebuilds(), rebuilds + 1) << "one rebuild, once they had moved the skin between them";
 }

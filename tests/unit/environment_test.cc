@@ -152,10 +152,12 @@ TEST(Environment, EveryPrimitiveKindIsReadByItsRowOfTheTable) {
     EXPECT_GT(boundingRadius(shape), 0.0) << kind.name;
     EXPECT_GT(shapeMassProperties(shape).volume, 0.0) << kind.name;
     // Each of the kind's numbers is required: a shape without one is refused, naming it.
-    for (const ShapeDimension& d : kind.dimensions)
-      if (d.key)
+    for (const ShapeDimension& d : kind.dimensions) {
+      if (d.key) {
         EXPECT_NE(error(yaml(d.key)).find(std::string("bodies[0].") + d.key), std::string::npos)
             << kind.name << " without " << d.key << ": " << error(yaml(d.key));
+      }
+    }
   }
 }
 

@@ -88,14 +88,19 @@ TEST(GeometryModel, OneListInModelThenSceneOrderWithWhatEachUserTakes) {
   for (int k = 0; k < n - 3; ++k) {  // the model's shapes, frame by frame
     const GeometryObject& o = g.object(k);
     ASSERT_GE(o.frame, 0);
-    if (k > 0) EXPECT_GE(o.frame, g.object(k - 1).frame);
+    if (k > 0) {
+      EXPECT_GE(o.frame, g.object(k - 1).frame);
+    }
     EXPECT_EQ(o.body, m.frame(o.frame).body);
     EXPECT_EQ(o.part, m.partOfFrame(o.frame));
     EXPECT_EQ(o.name, m.frame(o.frame).name);
   }
   const int box_a = m.frameIndex("box_a");
-  for (int k = 0; k < n; ++k)
-    if (g.object(k).frame == box_a) EXPECT_EQ(g.object(k).material, r.materialIndex("wood"));
+  for (int k = 0; k < n; ++k) {
+    if (g.object(k).frame == box_a) {
+      EXPECT_EQ(g.object(k).material, r.materialIndex("wood"));
+    }
+  }
 }
 
 // The contact layer, the step's proxy and the obstacle monitor name the same objects: a contact's geoms

@@ -82,8 +82,7 @@ ResolvedScene fallingBall(const std::string& extra) {
 }
 
 // The server's run with the hand away (every input sent says so): its states before each step, and the inputs.
-void runServer(const ResolvedScene& scene, int steps, SentInputs& inputs, std::vector<RobotSample>& states,
-               Simulation& server) {
+void runServer(int steps, SentInputs& inputs, std::vector<RobotSample>& states, Simulation& server) {
   for (int64_t s = 1; s <= steps; ++s) {
     InteractionInput in;
     in.seq = s;
@@ -98,7 +97,7 @@ void runServer(const ResolvedScene& scene, int steps, SentInputs& inputs, std::v
 // The server's run as runServer's, on a simulation of its own; \return its contact solve's figures.
 ContactSolveStats serverRun(const ResolvedScene& scene, int steps, SentInputs& inputs, std::vector<RobotSample>& states) {
   Simulation server(scene);
-  runServer(scene, steps, inputs, states, server);
+  runServer(steps, inputs, states, server);
   return server.contactStats();
 }
 
@@ -114,7 +113,7 @@ TEST(LocalModel, ABodyFallingOntoTheTableLandsOnItInTheEstimate) {
   Simulation server(scene);
   SentInputs inputs;
   std::vector<RobotSample> states;
-  runServer(scene, n + lead, inputs, states, server);
+  runServer(n + lead, inputs, states, server);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
   LocalModel local(scene, 200);
   StateEstimate kinematic(*scene.model, FallbackPolicy::Predict, 0.1);
