@@ -109,4 +109,7 @@ def stall(path):
 
 
 if __name__ == "__main__":
+    # Each line as it is printed: a failing check's own line then follows the figures before it in the
+    # test's log (a CI log once showed the first figure alone, not which check failed).
+    sys.stdout.reconfigure(line_buffering=True)
     {"lockstep": lockstep, "stall": stall}[sys.argv[1]](sys.argv[2])
