@@ -90,7 +90,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
   linearised_exact_ = linearised_ = 0;
   linearised_angle_ = 0.0;
   for (int seed = 0; seed < ng; ++seed) {
-    if (island_[static_cast<size_t>(seed)] >= 0 || !rows.group(seed).complete) continue;
+    if (island_[static_cast<size_t>(seed)] >= 0 || !rows.inSolve(seed)) continue;
     int head = 0, tail = 0, n = 0;
     queue_[static_cast<size_t>(tail++)] = seed;
     island_[static_cast<size_t>(seed)] = seed;
@@ -100,8 +100,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
       const ContactGroup& G = rows.group(g);
       for (const int t : {G.tree_a, G.tree_b}) {
         if (t < 0) continue;
-        for (int k = 0; k < rows.treeGroups(t); ++k) {
-          const int h = rows.treeGroup(t, k);
+        for (const int h : rows.groupsOn(t)) {
           if (island_[static_cast<size_t>(h)] < 0) {
             island_[static_cast<size_t>(h)] = seed;
             queue_[static_cast<size_t>(tail++)] = h;
@@ -143,9 +142,9 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
   }
   // z for the impulses as they now are (an island that took its solve changed them, whatever the others did).
   for (int g = 0; g < ng; ++g)  // z is zero but on the dofs of the groups in the solve
-    if (rows.group(g).complete) rows.clear(rows.group(g), z);
+    if (rows.inSolve(g)) rows.clear(rows.group(g), z);
   for (int g = 0; g < ng; ++g)
-    if (rows.group(g).complete) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
+    if (rows.inSolve(g)) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
   return all;
 }
 
@@ -168,8 +167,7 @@ void ContactActiveSet::forEachCoupled(ContactRows& rows, int m, Visit&& visit) {
   const int me = members_[static_cast<size_t>(m)];
   for (const int t : {g.tree_a, g.tree_b}) {
     if (t < 0) continue;
-    for (int k = 0; k < rows.treeGroups(t); ++k) {
-      const int h = rows.treeGroup(t, k);
+    for (const int h : rows.groupsOn(t)) {
       if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
       stamp_[static_cast<size_t>(h)] = me;
       rows.coupling(g, rows.group(h), W_);
@@ -178,7 +176,7 @@ void ContactActiveSet::forEachCoupled(ContactRows& rows, int m, Visit&& visit) {
   }
   for (const int t : {g.tree_a, g.tree_b})  // unstamp for the next pass
     if (t >= 0)
-      for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
+      for (const int h : rows.groupsOn(t)) stamp_[static_cast<size_t>(h)] = -1;
 }
 
 // The trial impulses' velocities (trial_u) over the island.
@@ -333,8 +331,8 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     bool fits = true;
     for (const int t : {g.tree_a, g.tree_b}) {
       if (t < 0) continue;
-      for (int k = 0; k < rows.treeGroups(t) && fits; ++k) {
-        const int h = rows.treeGroup(t, k);
+      for (const int h : rows.groupsOn(t)) {
+        if (!fits) break;
         if (h == me || stamp_[static_cast<size_t>(h)] == me) continue;
         stamp_[static_cast<size_t>(h)] = me;
         if (cached + count >= static_cast<int>(cache_block_.size())) {
@@ -348,7 +346,7 @@ bool ContactActiveSet::polishIsland(ContactRows& rows, int n, double tolerance) 
     }
     for (const int t : {g.tree_a, g.tree_b})
       if (t >= 0)
-        for (int k = 0; k < rows.treeGroups(t); ++k) stamp_[static_cast<size_t>(rows.treeGroup(t, k))] = -1;
+        for (const int h : rows.groupsOn(t)) stamp_[static_cast<size_t>(h)] = -1;
     if (fits) {
       cache_count_[static_cast<size_t>(m)] = count;
       cached += count;

@@ -17,14 +17,14 @@ bool impactsCanPass(const ContactRows& rows) {
   // Over every group, in the solve or not (the trees' lists hold only those in the solve): bouncing
   // groups are few, so a scan of the others for each is cheap.
   for (int gi = 0; gi < rows.size(); ++gi) {
+    if (!rows.inSolve(gi)) continue;
     const ContactGroup& g = rows.group(gi);
-    if (!g.complete) continue;
     bool bounces = false;
     for (int k = 0; k < g.points; ++k) bounces = bounces || g.bounce[k];
     if (!bounces) continue;
     for (int gj = 0; gj < rows.size(); ++gj) {
       if (gj == gi) continue;
-      const ContactGroup& o = rows.group(gj);
+      const ContactPair& o = rows.pair(gj);
       for (const int t : {g.tree_a, g.tree_b})
         if (t >= 0 && (o.tree_a == t || o.tree_b == t)) return true;
     }
@@ -50,8 +50,8 @@ ImpactPassing passImpacts(ContactRows& rows, const ContactSet& contacts, double 
   for (; out.rounds < max_rounds; ++out.rounds) {
     bool any = false;
     for (int gi = 0; gi < rows.size(); ++gi) {
+      if (!rows.inSolve(gi)) continue;
       ContactGroup& g = rows.group(gi);
-      if (!g.complete) continue;
       const int R = g.rows, P = g.points;
       const ContactRowVector u = g.b + rows.velocity(g, z, R);  // its velocity now, its own impacts included
       const ContactRowVector moved = rows.velocity(g, z, P);    // what the impacts so far changed

@@ -48,7 +48,6 @@ int baseDirections(int rows, int around, Vector3* out) {
 bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double tolerance, int around) {
   auto group = [&](int m) -> ContactGroup& { return member(rows, m); };
   if (n > kLinearisedGroups) return false;
-  const ContactGroup* const first_group = &rows.group(0);
   // The generators (real coordinates, per unit mu N).
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
@@ -69,7 +68,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
   int size = 0;  // each member's unknowns: its normals, its generators' weights, its slip speed
   for (int m = 0; m < n; ++m) {
     const ContactGroup& g = group(m);
-    const int gi = static_cast<int>(&g - first_group);
+    const int gi = rows.slotOf(g);
     lcp_base_[static_cast<size_t>(gi)] = size;
     lcp_member_[static_cast<size_t>(gi)] = m;
     const int d = generator_count_[static_cast<size_t>(m)];
@@ -96,7 +95,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
   // The answer's impulses (kept: linearised_answer_), and the velocities they give.
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
-    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int gb = lcp_base_[static_cast<size_t>(rows.slotOf(g))];
     const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
     g.trial.setZero();
     for (int k = 0; k < P; ++k) g.trial[k] = lcp_z_[gb + k];
@@ -114,7 +113,7 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = group(m);
     g.lambda = g.trial;
-    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int gb = lcp_base_[static_cast<size_t>(rows.slotOf(g))];
     const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
     if (d == 0 || !(lcp_z_[gb + P + d] > 0.0)) continue;
     double N = 0.0;
@@ -138,18 +137,17 @@ bool ContactActiveSet::linearisedIsland(ContactRows& rows, int n, double toleran
 // The LCP (M: lcp_M_, q: lcp_q_) of the island's generators and places (lcp_base_), `size` unknowns,
 // unregularised. \return the largest diagonal of a normal (the scale of regulariseLinearised()).
 double ContactActiveSet::assembleLinearised(ContactRows& rows, int n, int size) {
-  const ContactGroup* const first_group = &rows.group(0);
   auto M = lcp_M_.topLeftCorner(size, size);
   M.setZero();
   double big = 0.0;
   for (int m = 0; m < n; ++m) {
     const ContactGroup& g = member(rows, m);
-    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int gb = lcp_base_[static_cast<size_t>(rows.slotOf(g))];
     const int Pg = g.points, Fg = frictionRows(g), dg = generator_count_[static_cast<size_t>(m)];
     const auto& Gg = generators_[static_cast<size_t>(m)];
     // W_gh's part, in the unknowns: normals as they are, friction rows through the generators.
     auto add = [&](const ContactBlock& W, const ContactGroup& h) {
-      const int hi = static_cast<int>(&h - first_group);
+      const int hi = rows.slotOf(h);
       const int hb = lcp_base_[static_cast<size_t>(hi)], hm = lcp_member_[static_cast<size_t>(hi)];
       const int Ph = h.points, Fh = frictionRows(h), dh = generator_count_[static_cast<size_t>(hm)];
       const auto& Gh = generators_[static_cast<size_t>(hm)];
@@ -203,20 +201,18 @@ double ContactActiveSet::assembleLinearised(ContactRows& rows, int n, int size) 
 // Adds `amount` to the diagonal of the normals and the generators, as the active set regularises:
 // redundant normals pick the even split, and generators that give the same friction share it.
 void ContactActiveSet::regulariseLinearised(ContactRows& rows, int n, double amount) {
-  const ContactGroup* const first_group = &rows.group(0);
   for (int m = 0; m < n; ++m) {
     const ContactGroup& g = member(rows, m);
-    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int gb = lcp_base_[static_cast<size_t>(rows.slotOf(g))];
     for (int r = 0; r < g.points + generator_count_[static_cast<size_t>(m)]; ++r) lcp_M_(gb + r, gb + r) += amount;
   }
 }
 
 void ContactActiveSet::seedLinearisedOnEdge(ContactRows& rows, int n) {
-  const ContactGroup* const first_group = &rows.group(0);
   for (int m = 0; m < n; ++m) {
     ContactGroup& g = member(rows, m);
     g.lambda = linearised_answer_[static_cast<size_t>(m)];
-    const int gb = lcp_base_[static_cast<size_t>(&g - first_group)];
+    const int gb = lcp_base_[static_cast<size_t>(rows.slotOf(g))];
     const int P = g.points, F = frictionRows(g), d = generator_count_[static_cast<size_t>(m)];
     if (d == 0 || !(lcp_z_[gb + P + d] > 0.0)) continue;  // not slipping (sigma = 0)
     double N = 0.0;

@@ -91,14 +91,16 @@ ContactRows::ContactRows(const Model& model, const ContactModel& contacts) : mod
   link_.resize(static_cast<size_t>(max_entries_));
   chain_from_.resize(static_cast<size_t>(max_entries_));
   link_value_.resize(static_cast<size_t>(max_entries_));
+  pairs_.resize(static_cast<size_t>(capacity));
   groups_.resize(static_cast<size_t>(capacity));
   dof_.resize(static_cast<size_t>(capacity * max_entries_));
   invD_.resize(dof_.size());
   sign_of_.resize(dof_.size());
   J_.resize(static_cast<size_t>(capacity * max_entries_ * kMaxContactRows));
   X_.resize(J_.size());
-  tree_groups_.assign(model.parts.size(), std::vector<int>(static_cast<size_t>(capacity)));
-  tree_count_.assign(model.parts.size(), 0);
+  part_head_.assign(model.parts.size(), -1);
+  part_tail_.assign(model.parts.size(), -1);
+  part_next_.assign(static_cast<size_t>(2 * capacity), -1);
   tree_touched_.assign(model.parts.size(), 0);
 }
 
@@ -111,8 +113,9 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
   v0_ = &v0;
   h_ = h;
   entry_ = value_ = 0;
+  slots_ = 0;
   const int nc = contacts.n;
-  std::fill(tree_count_.begin(), tree_count_.end(), 0);
+  std::fill(part_head_.begin(), part_head_.end(), -1);
   int ng = 0;
   twists(v, twist_);  // for the pairs that may wait: their speeds without their rows
   for (int i = 0; i < nc;) {
@@ -123,30 +126,47 @@ int ContactRows::build(const Data& data, const TreeMatrix& LD, const ContactSet&
     while (end < nc && contacts[end].geom_a == contacts[i].geom_a && contacts[end].geom_b == contacts[i].geom_b &&
            contacts[end].normal.dot(contacts[i].normal) > kPatchCosine)
       ++end;
-    ContactGroup& g = groups_[static_cast<size_t>(ng++)];
+    ContactPair& pair = pairs_[static_cast<size_t>(ng)];
     const Contact& c0 = contacts[i];
-    g.first = i;
-    g.points = end - i;
-    g.patch = g.points > 1;
-    g.resists = !g.patch && (c0.rolling > 0.0 || c0.torsion > 0.0);
-    g.spin_mu = g.resists ? c0.torsion : 0.0;
-    g.roll_mu = g.resists ? c0.rolling : 0.0;
-    g.rows = g.points + (g.patch ? 3 : g.resists ? 5 : 2);
-    g.mu = c0.friction;
-    g.framed = false;
-    g.surface_hint.setZero();
-    g.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
-    g.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
-    g.complete = false;
-    g.built = false;
+    pair.first = i;
+    pair.points = end - i;
+    pair.tree_a = c0.body_a >= 0 ? part_of_body_[static_cast<size_t>(c0.body_a)] : -1;
+    pair.tree_b = c0.body_b >= 0 ? part_of_body_[static_cast<size_t>(c0.body_b)] : -1;
+    pair.slot = -1;
+    pair.in_solve = false;
     bool apart = true;
     for (int k = i; k < end && apart; ++k)
       apart = contacts[k].distance > 0.0 && contacts[k].distance + h * twistSpeed(contacts[k], twist_) > 0.0;
-    if (!apart) buildRows(g, LD, v);
+    if (!apart) buildRows(open(ng), LD, v);
+    ++ng;
     i = end;
   }
   ngroups_ = ng;
   return ng;
+}
+
+ContactGroup& ContactRows::open(int gi) {
+  ContactPair& pair = pairs_[static_cast<size_t>(gi)];
+  if (pair.slot >= 0) return groups_[static_cast<size_t>(pair.slot)];
+  pair.slot = slots_++;
+  ContactGroup& g = groups_[static_cast<size_t>(pair.slot)];
+  const Contact& c0 = (*contacts_)[pair.first];
+  g.first = pair.first;
+  g.points = pair.points;
+  g.patch = g.points > 1;
+  g.resists = !g.patch && (c0.rolling > 0.0 || c0.torsion > 0.0);
+  g.spin_mu = g.resists ? c0.torsion : 0.0;
+  g.roll_mu = g.resists ? c0.rolling : 0.0;
+  g.rows = g.points + (g.patch ? 3 : g.resists ? 5 : 2);
+  g.mu = c0.friction;
+  g.framed = false;
+  g.surface_hint.setZero();
+  g.tree_a = pair.tree_a;
+  g.tree_b = pair.tree_b;
+  g.complete = false;
+  g.built = false;
+  g.lambda.setZero();
+  return g;
 }
 
 // The patch's friction sits where it touches: the centroid (and normal, and radius) of its points
@@ -287,8 +307,8 @@ void ContactRows::buildRows(ContactGroup& g, const TreeMatrix& LD, const VectorX
 }
 
 void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) {
-  ContactGroup& g = groups_[static_cast<size_t>(gi)];
-  if (g.complete) return;
+  if (pairs_[static_cast<size_t>(gi)].in_solve) return;
+  ContactGroup& g = open(gi);
   if (!g.built) buildRows(g, LD, v_free);
   const int P = g.points;
   // The friction rows of J (at the point, or the patch's centroid; a torsion row [0; n]) and their
@@ -479,10 +499,18 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
       g.roll_step = 1.0 / (0.5 * (p + r) + std::sqrt(0.25 * (p - r) * (p - r) + q * q) + 1e-300);
     }
   }
-  if (g.tree_a >= 0) tree_groups_[static_cast<size_t>(g.tree_a)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_a)]++)] = gi;
-  if (g.tree_b >= 0 && g.tree_b != g.tree_a)
-  tree_groups_[static_cast<size_t>(g.tree_b)][static_cast<size_t>(tree_count_[static_cast<size_t>(g.tree_b)]++)] = gi;
+  auto append = [&](int part, int link) {  // at the end of part's list
+    part_next_[static_cast<size_t>(link)] = -1;
+    int& head = part_head_[static_cast<size_t>(part)];
+    int& tail = part_tail_[static_cast<size_t>(part)];
+    if (head < 0) head = link;
+    else part_next_[static_cast<size_t>(tail)] = link;
+    tail = link;
+  };
+  if (g.tree_a >= 0) append(g.tree_a, 2 * gi);
+  if (g.tree_b >= 0 && g.tree_b != g.tree_a) append(g.tree_b, 2 * gi + 1);
   g.complete = true;
+  pairs_[static_cast<size_t>(gi)].in_solve = true;
 }
 
 void ContactRows::twists(const VectorX& v, std::vector<Motion>& out) const {
@@ -583,10 +611,10 @@ void ContactRows::coupling(const ContactGroup& g, const ContactGroup& h, Contact
 void ContactRows::apply(const TreeMatrix& LD, VectorX& z, VectorX& v) {
   std::fill(tree_touched_.begin(), tree_touched_.end(), 0);
   for (int gi = 0; gi < ngroups_; ++gi) {
-    const ContactGroup& g = groups_[static_cast<size_t>(gi)];
-    if (!g.complete) continue;
-    if (g.tree_a >= 0) tree_touched_[static_cast<size_t>(g.tree_a)] = 1;
-    if (g.tree_b >= 0) tree_touched_[static_cast<size_t>(g.tree_b)] = 1;
+    const ContactPair& p = pairs_[static_cast<size_t>(gi)];
+    if (!p.in_solve) continue;
+    if (p.tree_a >= 0) tree_touched_[static_cast<size_t>(p.tree_a)] = 1;
+    if (p.tree_b >= 0) tree_touched_[static_cast<size_t>(p.tree_b)] = 1;
   }
   // L x = z, tree by tree, from the root down (each dof's L row reaches its ancestors).
   for (size_t t = 0; t < model_.parts.size(); ++t) {

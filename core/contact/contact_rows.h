@@ -25,10 +25,20 @@ static_assert(kMaxContactRows >= 6, "a point that resists: n, t1, t2, spin, two 
 using ContactBlock = Eigen::Matrix<double, kMaxContactRows, kMaxContactRows>;
 using ContactRowVector = Eigen::Matrix<double, kMaxContactRows, 1>;
 
+// A pair of shapes in contact, as every pair has it each step: its points in the set, its two parts,
+// its group (slot) where it has one, and whether that is in the solve. Compact: a crowded scene's
+// many pairs that wait outside the solve (apart and not closing) have only this, and the solve's
+// loops over all pairs read an array of these rather than a group each.
+struct ContactPair {
+  int first = 0, points = 0;     // its contacts in the set
+  int tree_a = -1, tree_b = -1;  // the model parts of its two sides (-1: the world)
+  int slot = -1;                 // its group in the pool (-1: none, it waits)
+  bool in_solve = false;         // its group complete (ContactGroup::complete)
+};
+
 // One pair's contacts: their rows (normals first, then friction) and everything about them.
 struct ContactGroup {
-  // What every pair has each step, waiting outside the solve or not (together: a crowded scene's many
-  // waiting pairs touch a few cache lines each).
+  // Its pair's (ContactPair), and its shape.
   int first = 0, points = 0;    // its contacts in the set
   int rows = 0;                 // points + 2 (one point: n, t1, t2; + 3 where it resists) or points + 3
   bool patch = false;           // several points: friction at the centroid (rows: normals, t1, t2, torsion)
@@ -46,7 +56,7 @@ struct ContactGroup {
   Vector3 centroid = Vector3::Zero(), n = Vector3::UnitZ(), t1 = Vector3::UnitX(), t2 = Vector3::UnitY();
   double radius = 0.0;               // a patch's torsion radius
   // The points it was last computed from (in the patch's plane) and its value: a pair at rest keeps
-  // them (the group is the same pair's while the contacts keep their order; compared each step).
+  // them (a slot holds the same pair while the same pairs have groups; compared each step).
   int radius_points = -1;
   double radius_u[kMaxPairPoints] = {}, radius_v[kMaxPairPoints] = {}, radius_of = 0.0;
   int first_entry = 0, entries = 0;  // the dofs its rows live on (ContactRows::dof, invD)
@@ -107,16 +117,17 @@ class ContactRows {
  public:
   ContactRows(const Model& model, const ContactModel& contacts);
 
-  // Each pair's group, and its normal rows of J from the step's start (data: S_world from the inertia
-  // matrix's pass; data, contacts and v0 kept until the solve ends), A's diagonal from its factors LD
-  // (ltdl.h), their velocities b = J v_free (h, v0: the start velocity), targets and bounces. A pair
-  // whose every point is apart and not closing under v_free (its speed from the bodies' twists) gets
-  // no rows and no frame yet (built false: most of a crowded scene's pairs, which wait outside the
-  // solve); complete() forms them. \return the number of groups. None is in the solve until complete().
+  // Each pair, and its group with its normal rows of J from the step's start (data: S_world from the
+  // inertia matrix's pass; data, contacts and v0 kept until the solve ends), A's diagonal from its
+  // factors LD (ltdl.h), their velocities b = J v_free (h, v0: the start velocity), targets and
+  // bounces. A pair whose every point is apart and not closing under v_free (its speed from the
+  // bodies' twists) gets no group (most of a crowded scene's pairs, which wait outside the solve);
+  // open() or complete() makes one. \return the number of pairs. None is in the solve until complete().
   int build(const Data& data, const TreeMatrix& LD, const ContactSet& contacts, double h, const VectorX& v0,
             const VectorX& v_free);
-  // Group g's friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and
-  // its friction block: in the solve from now on.
+  // Pair g's group (made where it had none, its normal rows formed where they were not) with its
+  // friction rows (and their velocities under v_free), X = L^-T J^T, its own block W_gg and its
+  // friction block: in the solve from now on.
   void complete(int g, const TreeMatrix& LD, const VectorX& v_free);
   // g's centroid, normal, tangents, torsion radius and carrying points, once a step: a pair that
   // waits outside the solve with no impulse to start from never needs them (build() leaves them).
@@ -131,12 +142,22 @@ class ContactRows {
   // the others' impulses push across is let in, and the solve taken again).
   bool separating(const ContactGroup& g, const ContactSet& contacts, double h) const;
 
+  // The step's pairs, in the contacts' order; g below is a pair's index.
   int size() const { return ngroups_; }
-  ContactGroup& group(int g) { return groups_[static_cast<size_t>(g)]; }
-  const ContactGroup& group(int g) const { return groups_[static_cast<size_t>(g)]; }
-  // The groups that touch model part t (their sides), in order.
-  int treeGroups(int t) const { return tree_count_[static_cast<size_t>(t)]; }
-  int treeGroup(int t, int k) const { return tree_groups_[static_cast<size_t>(t)][static_cast<size_t>(k)]; }
+  const ContactPair& pair(int g) const { return pairs_[static_cast<size_t>(g)]; }
+  bool hasGroup(int g) const { return pairs_[static_cast<size_t>(g)].slot >= 0; }
+  bool inSolve(int g) const { return pairs_[static_cast<size_t>(g)].in_solve; }
+  // Pair g's group (hasGroup(g)).
+  ContactGroup& group(int g) { return groups_[static_cast<size_t>(pairs_[static_cast<size_t>(g)].slot)]; }
+  const ContactGroup& group(int g) const { return groups_[static_cast<size_t>(pairs_[static_cast<size_t>(g)].slot)]; }
+  // Pair g's group, made from its points (no rows yet, built false) where it had none.
+  ContactGroup& open(int g);
+  // A group's place in the pool (a dense index over the groups that exist this step).
+  int slotOf(const ContactGroup& g) const { return static_cast<int>(&g - groups_.data()); }
+  // The groups in the solve that touch model part t (their sides), in the order complete() took
+  // them: for (int h : rows.groupsOn(t)).
+  class PartGroups;
+  PartGroups groupsOn(int t) const;
 
   // An accumulator z (nv, zero where nothing was added): z += D^-1 X_g^T delta (the first `rows` of delta).
   void add(const ContactGroup& g, const ContactRowVector& delta, int rows, VectorX& z) const;
@@ -158,8 +179,10 @@ class ContactRows {
   std::vector<std::vector<int>> body_chain_;  // per body: the dofs that move it, ascending
   std::vector<int> part_of_body_;
   int max_entries_ = 0;                       // per group: both chains
-  std::vector<ContactGroup> groups_;
-  int ngroups_ = 0;
+  std::vector<ContactPair> pairs_;
+  int ngroups_ = 0;                            // pairs
+  std::vector<ContactGroup> groups_;           // the pool: the step's groups in the order they were made
+  int slots_ = 0;
   std::vector<int> dof_;                      // per group entry: the dof
   std::vector<double> invD_;                  // per group entry: 1 / D of the dof
   std::vector<double> J_, X_;                 // per group: rows x entries, row-major
@@ -176,9 +199,40 @@ class ContactRows {
   std::vector<int> link_;                     // complete(): one entry's chain upward (entries)
   std::vector<int> chain_from_;               // complete(): where an entry's chain is contiguous, its first entry
   std::vector<double> link_value_;            // complete(): L's values along it
-  std::vector<std::vector<int>> tree_groups_;  // per part: its groups (capacity fixed)
-  std::vector<int> tree_count_;
+  // Per part, its groups as a list (head, tail; each group's link per side, 2 g + side, to the next):
+  // a crowded scene's thousand parts each with its own array of the capacity cost complete() a cache
+  // miss per store (its 11 MB touched at random).
+  std::vector<int> part_head_, part_tail_, part_next_;
   std::vector<char> tree_touched_;
 };
+
+class ContactRows::PartGroups {
+ public:
+  class Iterator {
+   public:
+    Iterator(const int* next, int link) : next_(next), link_(link) {}
+    int operator*() const { return link_ >> 1; }
+    Iterator& operator++() {
+      link_ = next_[link_];
+      return *this;
+    }
+    bool operator!=(const Iterator& o) const { return link_ != o.link_; }
+
+   private:
+    const int* next_;
+    int link_;
+  };
+  PartGroups(const int* next, int head) : next_(next), head_(head) {}
+  Iterator begin() const { return Iterator(next_, head_); }
+  Iterator end() const { return Iterator(next_, -1); }
+
+ private:
+  const int* next_;
+  int head_;
+};
+
+inline ContactRows::PartGroups ContactRows::groupsOn(int t) const {
+  return PartGroups(part_next_.data(), part_head_[static_cast<size_t>(t)]);
+}
 
 }  // namespace igms

@@ -32,14 +32,15 @@ void shareOpposedOverlaps(ContactRows& rows, const ContactSet& contacts, std::ve
   const int ng = rows.size();
   for (int gi = 0; gi < ng; ++gi) {
     share[static_cast<size_t>(gi)] = 0.0;
+    if (!rows.inSolve(gi)) continue;
     const ContactGroup& g = rows.group(gi);
-    const double deepest = g.complete ? deepestTarget(g) : 0.0;
+    const double deepest = deepestTarget(g);
     if (deepest <= 0.0) continue;
     const Contact& a = contacts[g.first];
     const int tree = g.tree_b >= 0 ? g.tree_b : g.tree_a;
     if (tree < 0) continue;  // two shapes of the world (never a pair today)
-    for (int j = 0; j < rows.treeGroups(tree); ++j) {
-      const ContactGroup& h = rows.group(rows.treeGroup(tree, j));
+    for (const int hi : rows.groupsOn(tree)) {
+      const ContactGroup& h = rows.group(hi);
       // The same two parts first: a crowded scene's other pairs are passed without reading their contacts.
       const bool same_parts =
           (h.tree_a == g.tree_a && h.tree_b == g.tree_b) || (h.tree_a == g.tree_b && h.tree_b == g.tree_a);
@@ -55,9 +56,9 @@ void shareOpposedOverlaps(ContactRows& rows, const ContactSet& contacts, std::ve
     }
   }
   for (int gi = 0; gi < ng; ++gi) {
-    ContactGroup& g = rows.group(gi);
     const double s = share[static_cast<size_t>(gi)];
     if (s == 0.0) continue;
+    ContactGroup& g = rows.group(gi);
     for (int k = 0; k < g.points; ++k)
       if (!g.bounce[k]) g.target[k] -= s;
   }
@@ -80,20 +81,22 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
   const int ng = rows_.size();
   int p = 0;
   for (int gi = 0; gi < ng; ++gi) {
-    ContactGroup& g = rows_.group(gi);
-    g.lambda.setZero();
-    const Contact& c0 = contacts[g.first];
+    const ContactPair& pair = rows_.pair(gi);
+    const Contact& c0 = contacts[pair.first];
     while (p < previous_n_ && std::make_pair(previous_[static_cast<size_t>(p)].a, previous_[static_cast<size_t>(p)].b) <
                                   std::make_pair(c0.geom_a, c0.geom_b))
       ++p;
-    bool found = false;
+    if (p >= previous_n_ || previous_[static_cast<size_t>(p)].a != c0.geom_a ||
+        previous_[static_cast<size_t>(p)].b != c0.geom_b)
+      continue;  // no impulse to start from: a pair that waited and waits still has no group
+    // Each point's normal impulse: the nearest last point's within reach (a pair in the last solve).
+    ContactGroup& g = rows_.open(gi);
     for (int k = 0; k < g.points; ++k) {
       double best = kWarmStartReach * kWarmStartReach;
       for (int q = p; q < previous_n_ && previous_[static_cast<size_t>(q)].a == c0.geom_a &&
                       previous_[static_cast<size_t>(q)].b == c0.geom_b;
            ++q) {
         const Previous& prev = previous_[static_cast<size_t>(q)];
-        found = true;
         const double d = (prev.point - contacts[g.first + k].point).squaredNorm();
         if (d < best) {
           best = d;
@@ -101,7 +104,6 @@ void ContactSolver::warmStart(const ContactSet& contacts) {
         }
       }
     }
-    if (!found) continue;
     const Previous& prev = previous_[static_cast<size_t>(p)];
     if (prev.friction.isZero(0.0) && prev.torsion == 0.0) continue;  // none to carry over (a pair that waited)
     rows_.frame(g);
@@ -130,15 +132,16 @@ void ContactSolver::report(ContactSet& contacts) {
   const int ng = rows_.size();
   previous_n_ = 0;  // the points of the pairs in the solve, in the contacts' order (by pair)
   for (int gi = 0; gi < ng; ++gi) {
-    const ContactGroup& g = rows_.group(gi);
-    const int P = g.points;
-    if (!g.complete) {  // waited outside the solve, no impulse: none to report, none to start from
-      for (int k = 0; k < P; ++k) {
-        contacts[g.first + k].impulse.setZero();
-        contacts[g.first + k].moment.setZero();
+    if (!rows_.inSolve(gi)) {  // waited outside the solve, no impulse: none to report, none to start from
+      const ContactPair& pair = rows_.pair(gi);
+      for (int k = 0; k < pair.points; ++k) {
+        contacts[pair.first + k].impulse.setZero();
+        contacts[pair.first + k].moment.setZero();
       }
       continue;
     }
+    const ContactGroup& g = rows_.group(gi);
+    const int P = g.points;
     // What the bodies took: the solve's impulses and any impacts passed along before it.
     const ContactRowVector taken = g.impact.isZero(0.0) ? g.lambda : ContactRowVector(g.lambda + g.impact);
     const Vector3 friction = taken[P] * g.t1 + taken[P + 1] * g.t2;
@@ -174,6 +177,7 @@ void ContactSolver::report(ContactSet& contacts) {
 
 bool ContactSolver::anySliding() const {
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;  // no impulse
     const ContactGroup& g = rows_.group(gi);
     const int P = g.points;
     double N = 0.0;
@@ -243,8 +247,8 @@ bool ContactSolver::solveImpulses() {
 double ContactSolver::kineticGain(double* scale) const {
   double gain = 0.0, size = 0.0;
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;
     const ContactGroup& g = rows_.group(gi);
-    if (!g.complete) continue;
     const ContactRowVector u = rows_.velocity(g, z_, g.rows);
     for (int r = 0; r < g.rows; ++r) {
       gain += g.lambda[r] * (g.b[r] + 0.5 * u[r]);
@@ -264,16 +268,17 @@ void ContactSolver::dropWorseWarmStart() {
   double cost = 0.0;
   bool any = false;
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;
     const ContactGroup& g = rows_.group(gi);
-    if (!g.complete || g.lambda.isZero(0.0)) continue;
+    if (g.lambda.isZero(0.0)) continue;
     any = true;
     const ContactRowVector u = rows_.velocity(g, z_, g.rows);
     for (int r = 0; r < g.rows; ++r) cost += g.lambda[r] * (g.b[r] - g.target[r] + 0.5 * u[r]);
   }
   if (!any || cost <= 0.0) return;
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;
     ContactGroup& g = rows_.group(gi);
-    if (!g.complete) continue;
     rows_.clear(g, z_);
     g.lambda.setZero();
   }
@@ -293,6 +298,7 @@ bool ContactSolver::keepEnergy() {
   ++stats_.restitution_scaled;
   auto solveWith = [&](double factor) {
     for (int gi = 0; gi < rows_.size(); ++gi) {
+      if (!rows_.hasGroup(gi)) continue;
       ContactGroup& g = rows_.group(gi);
       for (int k = 0; g.built && k < g.points; ++k)
         if (g.bounce[k]) g.target[k] = factor * g.bounce_target[k];
@@ -320,19 +326,20 @@ void ContactSolver::capEnergy() {
   if (gain <= kRoundOff * scale) return;
   double work = 0.0;  // lambda^T b
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;
     const ContactGroup& g = rows_.group(gi);
-    if (g.complete) work += g.lambda.head(g.rows).dot(g.b.head(g.rows));
+    work += g.lambda.head(g.rows).dot(g.b.head(g.rows));
   }
   const double quadratic = 2.0 * (gain - work);  // lambda^T W lambda
   const double beta = work < 0.0 && quadratic > 0.0 ? std::min(1.0, -2.0 * work / quadratic) * (1.0 - 1e-12) : 0.0;
   for (int gi = 0; gi < rows_.size(); ++gi) {
+    if (!rows_.inSolve(gi)) continue;
     ContactGroup& g = rows_.group(gi);
-    if (!g.complete) continue;
     rows_.clear(g, z_);
     g.lambda *= beta;
   }
   for (int gi = 0; gi < rows_.size(); ++gi)
-    if (rows_.group(gi).complete) rows_.add(rows_.group(gi), rows_.group(gi).lambda, rows_.group(gi).rows, z_);
+    if (rows_.inSolve(gi)) rows_.add(rows_.group(gi), rows_.group(gi).lambda, rows_.group(gi).rows, z_);
   ++stats_.energy_capped;
 }
 
@@ -359,6 +366,10 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   // neighbours a millimetre apart inside the margin: most of its pairs); each is checked against the
   // solve's v+ and let in if the others' impulses push it across.
   for (int g = 0; g < ng; ++g) {
+    if (!rows_.hasGroup(g)) {  // apart, not closing, no impulse to start from
+      ++stats_.deferred;
+      continue;
+    }
     ContactGroup& G = rows_.group(g);
     if (G.lambda.isZero(0.0) && (!G.built || rows_.separating(G, contacts, h))) {
       ++stats_.deferred;
@@ -370,12 +381,13 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   restitution_scale_ = 1.0;
   bool bounces = false;
   for (int g = 0; g < ng && !bounces; ++g)
-    for (int k = 0; rows_.group(g).built && k < rows_.group(g).points; ++k) bounces = bounces || rows_.group(g).bounce[k];
+    for (int k = 0; rows_.hasGroup(g) && rows_.group(g).built && k < rows_.group(g).points; ++k)
+      bounces = bounces || rows_.group(g).bounce[k];
   // Impacts that can pass along a chain are passed along first, pair by pair (contact_impacts.h); the
   // solve then starts from the velocity they leave, its contacts plastic.
   if (bounces && impactsCanPass(rows_)) {
     for (int g = 0; g < ng; ++g)  // a pair waiting outside may be struck: all of them in
-      if (!rows_.group(g).complete) rows_.complete(g, LD, v);
+      if (!rows_.inSolve(g)) rows_.complete(g, LD, v);
     stats_.deferred = 0;
     const ImpactPassing passing =
         passImpacts(rows_, contacts, h, settings_.bounce_velocity, settings_.iterations, settings_.tolerance, z_);
@@ -398,7 +410,7 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   double crossing = 0.0;     // m/s: the fastest a pair let in was crossing under the last pass's v+
   for (int pass = 0;; ++pass) {
     for (int g = 0; g < ng; ++g)
-      if (rows_.group(g).complete) rows_.add(rows_.group(g), rows_.group(g).lambda, rows_.group(g).rows, z_);
+      if (rows_.inSolve(g)) rows_.add(rows_.group(g), rows_.group(g).lambda, rows_.group(g).rows, z_);
     if (pass == 0) dropWorseWarmStart();
     const bool spent = stats_.iterations >= settings_.iterations;
     converged = solveImpulses();
@@ -414,12 +426,13 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
     crossing = 0.0;
     rows_.twists(v, twist_);
     for (int g = 0; g < ng; ++g) {
-      ContactGroup& G = rows_.group(g);
-      if (G.complete) continue;
+      if (rows_.inSolve(g)) continue;
+      const ContactPair& pair = rows_.pair(g);
+      const ContactGroup* const built = rows_.hasGroup(g) && rows_.group(g).built ? &rows_.group(g) : nullptr;
       bool crosses = pass >= kLetIn;
-      for (int k = 0; k < G.points; ++k) {
-        const Contact& c = contacts[G.first + k];
-        const double u = G.built ? rows_.normalSpeed(G, k, v) : ContactRows::twistSpeed(c, twist_);
+      for (int k = 0; k < pair.points; ++k) {
+        const Contact& c = contacts[pair.first + k];
+        const double u = built ? rows_.normalSpeed(*built, k, v) : ContactRows::twistSpeed(c, twist_);
         if (c.distance + h * u < -h * settings_.tolerance) {
           crosses = true;
           crossing = std::max(crossing, -(c.distance / h + u));
@@ -441,8 +454,8 @@ void ContactSolver::solve(const Data& data, const TreeMatrix& LD, double h, cons
   // e (approach h - gap) above the surface), by a pseudo-velocity that no velocity keeps.
   bool any = false;
   for (int gi = 0; gi < ng; ++gi) {
+    if (!rows_.inSolve(gi)) continue;  // apart at the step's end: nothing to close
     ContactGroup& g = rows_.group(gi);
-    if (!g.complete) continue;  // apart at the step's end: nothing to close
     for (int k = 0; k < g.points; ++k) {
       const Contact& c = contacts[g.first + k];
       const double end_gap = c.distance + h * rows_.normalSpeed(g, k, v);

@@ -102,8 +102,7 @@ SweepResult sweepGroups(ContactRows& rows, int sweeps, double tolerance, Visit&&
   for (int pass = 0; pass < sweeps; ++pass) {
     double largest = 0.0;
     for (int gi = 0; gi < rows.size(); ++gi) {
-      ContactGroup& g = rows.group(gi);
-      if (g.complete) largest = std::max(largest, visit(g));
+      if (rows.inSolve(gi)) largest = std::max(largest, visit(rows.group(gi)));
     }
     ++out.sweeps;
     out.residual = largest;
