@@ -12,6 +12,7 @@ namespace {
 
 constexpr double kWarmStartReach = 0.02;  // m: a last step's point this near, of the same pair, starts it
 constexpr double kSlop = 1e-6;            // m: overlap the positions leave alone
+constexpr int kSweepsPerPolish = 10;      // sweeps between the active set's solves
 
 // The largest position target of g's points (0 where none overlaps; a bounce's is its own).
 double deepestTarget(const ContactGroup& g) {
@@ -74,6 +75,7 @@ ContactSolver::ContactSolver(const Model& model, const ContactModel& contacts)
       v_free_(VectorX::Zero(model.nv)),
       twist_(static_cast<size_t>(model.nb)),
       share_(static_cast<size_t>(contacts.capacity())),
+      kept_lambda_(static_cast<size_t>(contacts.capacity())),
       previous_(static_cast<size_t>(contacts.capacity())),
       settings_(contacts.settings()) {}
 
@@ -205,7 +207,6 @@ bool ContactSolver::anySliding() const {
 // shows is solved at once. (A slipping friction keeps the direction its guess had: one sweep's is
 // not yet right.) \return converged.
 bool ContactSolver::solveImpulses() {
-  constexpr int kSweepsPerPolish = 10;
   constexpr double kNearlyThere = 1e-6;  // m/s: a first sweep's residual that trusts its active set
   const int limit = settings_.iterations;
   const int start = stats_.iterations;
@@ -224,23 +225,68 @@ bool ContactSolver::solveImpulses() {
       // 100 sweeps: a step's p99 on puma_table 0.86-0.87 ms, against 0.42-0.44 ms asked after two.)
       const bool linearise = stats_.iterations >= limit || stats_.iterations - start > 2 * kSweepsPerPolish;
       const bool exact = active_.polish(rows_, z_, settings_.tolerance, linearise);
-      stats_.polish_rounds += active_.rounds();
-      stats_.slips_unturned += active_.slipsUnturned();
-      stats_.polish_cycles += active_.cycles();
+      countPolish();
       stats_.linearised_exact += active_.linearisedExact();
-      stats_.linearised += active_.linearised();
-      stats_.linearised_angle = std::max(stats_.linearised_angle, active_.linearisedAngle());
+      const int kept = active_.linearised();
+      const double kept_angle = active_.linearisedAngle();
       stats_.linearised_failed = active_.linearisedFailed();
-      stats_.large_solves += active_.largeSolves();
-      stats_.large_iterations += active_.largeIterations();
-      stats_.slip_angle = std::max(stats_.slip_angle, active_.slipAngle());
-      if (exact) {
-        converged = true;  // every condition checked, to the tolerance
+      if (exact && kept > 0 && stats_.iterations < limit && refineOnCone(limit)) {
+        stats_.linearised_exact += kept;  // settled on the cone from the polytope's answer
+        converged = true;
+      } else if (exact) {
+        converged = true;  // every condition checked, to the tolerance (an island on a polytope: its LCP's)
         stats_.residual = 0.0;
+        stats_.linearised += kept;
+        stats_.linearised_angle = std::max(stats_.linearised_angle, kept_angle);
       }
     }
   }
   return converged;
+}
+
+// The active-set solve's figures of its last call, into the solve's.
+void ContactSolver::countPolish() {
+  stats_.polish_rounds += active_.rounds();
+  stats_.slips_unturned += active_.slipsUnturned();
+  stats_.polish_cycles += active_.cycles();
+  stats_.large_solves += active_.largeSolves();
+  stats_.large_iterations += active_.largeIterations();
+  stats_.slip_angle = std::max(stats_.slip_angle, active_.slipAngle());
+}
+
+// An island the active set could not settle took a polytope's answer (a slipping friction up to the
+// polytope's angle off the one against its slip), and the solve called that settled. With the sweeps
+// that are left, the solve goes on from it on the true cone, sweeps and active-set solves as before
+// (not on the polytope again): a sweeps' fixed point or an exact active set is the cone's own answer.
+// Where neither comes before the sweep limit, the polytope's answer is put back. \return whether the
+// cone's answer came.
+bool ContactSolver::refineOnCone(int limit) {
+  const int ng = rows_.size();
+  for (int gi = 0; gi < ng; ++gi)
+    if (rows_.inSolve(gi)) kept_lambda_[static_cast<size_t>(gi)] = rows_.group(gi).lambda;
+  while (stats_.iterations < limit) {
+    const SweepResult r =
+        sweepImpulses(rows_, z_, std::min(kSweepsPerPolish, limit - stats_.iterations), settings_.tolerance);
+    stats_.iterations += r.sweeps;
+    if (r.converged) {
+      stats_.residual = r.residual;
+      return true;
+    }
+    const bool exact = active_.polish(rows_, z_, settings_.tolerance, false);
+    countPolish();
+    if (exact) {
+      stats_.residual = 0.0;
+      return true;
+    }
+  }
+  for (int gi = 0; gi < ng; ++gi) {
+    if (!rows_.inSolve(gi)) continue;
+    rows_.clear(rows_.group(gi), z_);
+    rows_.group(gi).lambda = kept_lambda_[static_cast<size_t>(gi)];
+  }
+  for (int gi = 0; gi < ng; ++gi)
+    if (rows_.inSolve(gi)) rows_.add(rows_.group(gi), rows_.group(gi).lambda, rows_.group(gi).rows, z_);
+  return false;
 }
 
 // The impulses' change of kinetic energy (in A's metric): lambda^T J v_free + 1/2 lambda^T W lambda.

@@ -96,6 +96,8 @@ class ContactSolver {
   void report(ContactSet& contacts);
   bool anySliding() const;  // a friction at its cone's edge in the impulses as they stand
   bool solveImpulses();     // sweeps and active-set solves on the pairs in the solve; \return converged
+  void countPolish();       // the active-set solve's figures of its last call, into stats_
+  bool refineOnCone(int limit);  // the sweeps on from a polytope's answer; \return converged (else it is put back)
   double kineticGain(double* scale) const;  // the impulses' change of kinetic energy (scale: its terms' size)
   bool keepEnergy();        // restitution scaled down where the impulses would add energy
   void capEnergy();         // impulses that still would, scaled down
@@ -107,6 +109,7 @@ class ContactSolver {
   std::vector<Motion> twist_;  // the bodies' twists under v+, for the pairs left out without rows
   double restitution_scale_ = 1.0;  // the factor keepEnergy() took, for the bounce's position
   std::vector<double> share_;  // per group: the overlap it shares with opposed facings (scratch)
+  std::vector<ContactRowVector> kept_lambda_;  // per group: a polytope's answer, while the sweeps go on from it
   // The last step's contacts, for the warm start: pair, point, normal impulse; and per pair its
   // friction (world force at the centroid, torsion about the normal).
   struct Previous {

@@ -807,7 +807,9 @@ TEST(ContactAnalytic, TheActiveSetBreaksItsCycles) {
 // near-singular redundant normals lost digits; now such an LCP is solved again with a larger
 // regularisation (contact_linearised_cone.cc). Where the answer, each slipping friction turned against
 // its slip, does not seed an exact answer, the polytope's answer as it is seeds the active set again,
-// then that answer with each slipping friction carried out to the cone's edge.
+// then that answer with each slipping friction carried out to the cone's edge. Where an island still
+// keeps a polytope's answer, the solve goes on from it on the true cone with the sweeps left (run 7's
+// island then settles; run 3's sweeps reach 2e-8 m/s at the limit, and it keeps the polytope's).
 TEST(ContactAnalytic, TheActiveSetLeavesNoGuessTwice) {
   int64_t cycles = 0, unconverged = 0, lemke_failed = 0, polytope = 0;
   double angle = 0.0;
@@ -834,8 +836,9 @@ TEST(ContactAnalytic, TheActiveSetLeavesNoGuessTwice) {
   EXPECT_EQ(unconverged, 0) << "2 before Lemke's failed checks were solved again, 170 before the linearised cone; 189 "
                                "with the worst broken condition's change always taken";
   EXPECT_EQ(lemke_failed, 0) << "18 before its failed checks were solved again";
-  EXPECT_LE(polytope, 5) << "measured 2; with the first polytope alone 50, 98 with two seeds (no seed on the cone's "
-                            "edge), 253 with the answer turned against each slip as the only seed";
+  EXPECT_LE(polytope, 3) << "measured 1 (run 3's); 2 before the solve went on from a polytope's answer on the cone; "
+                            "with the first polytope alone 50, 98 with two seeds (no seed on the cone's edge), 253 with "
+                            "the answer turned against each slip as the only seed";
   EXPECT_LE(angle, 0.45) << "measured 0.331; 0.48 with the first polytope alone (every 45 degrees)";
 }
 
