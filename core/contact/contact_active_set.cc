@@ -141,10 +141,7 @@ bool ContactActiveSet::polish(ContactRows& rows, VectorX& z, double tolerance, b
     all = settled && all;
   }
   // z for the impulses as they now are (an island that took its solve changed them, whatever the others did).
-  for (int g = 0; g < ng; ++g)  // z is zero but on the dofs of the groups in the solve
-    if (rows.inSolve(g)) rows.clear(rows.group(g), z);
-  for (int g = 0; g < ng; ++g)
-    if (rows.inSolve(g)) rows.add(rows.group(g), rows.group(g).lambda, rows.group(g).rows, z);
+  rows.accumulate(z);  // z is zero but on the dofs of the groups in the solve
   return all;
 }
 

@@ -163,7 +163,6 @@ ContactGroup& ContactRows::open(int gi) {
   g.surface_hint.setZero();
   g.tree_a = pair.tree_a;
   g.tree_b = pair.tree_b;
-  g.complete = false;
   g.built = false;
   g.lambda.setZero();
   return g;
@@ -509,7 +508,6 @@ void ContactRows::complete(int gi, const TreeMatrix& LD, const VectorX& v_free) 
   };
   if (g.tree_a >= 0) append(g.tree_a, 2 * gi);
   if (g.tree_b >= 0 && g.tree_b != g.tree_a) append(g.tree_b, 2 * gi + 1);
-  g.complete = true;
   pairs_[static_cast<size_t>(gi)].in_solve = true;
 }
 
@@ -585,6 +583,13 @@ ContactRowVector ContactRows::velocity(const ContactGroup& g, const VectorX& z, 
 
 void ContactRows::clear(const ContactGroup& g, VectorX& z) const {
   for (int e = 0; e < g.entries; ++e) z[dof_[static_cast<size_t>(g.first_entry + e)]] = 0.0;
+}
+
+void ContactRows::accumulate(VectorX& z) const {
+  for (int gi = 0; gi < ngroups_; ++gi)
+    if (inSolve(gi)) clear(group(gi), z);
+  for (int gi = 0; gi < ngroups_; ++gi)
+    if (inSolve(gi)) add(group(gi), group(gi).lambda, group(gi).rows, z);
 }
 
 void ContactRows::coupling(const ContactGroup& g, const ContactGroup& h, ContactBlock& W) const {

@@ -33,7 +33,7 @@ struct ContactPair {
   int first = 0, points = 0;     // its contacts in the set
   int tree_a = -1, tree_b = -1;  // the model parts of its two sides (-1: the world)
   int slot = -1;                 // its group in the pool (-1: none, it waits)
-  bool in_solve = false;         // its group complete (ContactGroup::complete)
+  bool in_solve = false;         // its group's X, W and friction block formed (complete())
 };
 
 // One pair's contacts: their rows (normals first, then friction) and everything about them.
@@ -47,7 +47,6 @@ struct ContactGroup {
   bool resists = false;
   bool framed = false;               // centroid, n, t1, t2, radius and carries set (frame())
   bool built = false;                // its normal rows formed (build() did, or complete() will)
-  bool complete = false;             // its X, W and friction block formed (complete()): in the solve
   int tree_a = -1, tree_b = -1;      // the model parts of its two sides (-1: the world)
   double mu = 0.0;                   // friction coefficient
   double spin_mu = 0.0, roll_mu = 0.0;  // m
@@ -165,6 +164,9 @@ class ContactRows {
   ContactRowVector velocity(const ContactGroup& g, const VectorX& z, int rows) const;
   // Zeroes z on g's dofs (where add() wrote).
   void clear(const ContactGroup& g, VectorX& z) const;
+  // z for the impulses as they stand: zeroed on the dofs of the groups in the solve, then each one's
+  // lambda added, in order.
+  void accumulate(VectorX& z) const;
   // W_gh = X_g^T D^-1 X_h over the dofs both share (zero when they share no tree).
   void coupling(const ContactGroup& g, const ContactGroup& h, ContactBlock& W) const;
   // v += L^-1 z on every tree a group touches (z = D^-1 sum X lambda: v += A^-1 J^T lambda); z is

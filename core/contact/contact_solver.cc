@@ -279,13 +279,9 @@ bool ContactSolver::refineOnCone(int limit) {
       return true;
     }
   }
-  for (int gi = 0; gi < ng; ++gi) {
-    if (!rows_.inSolve(gi)) continue;
-    rows_.clear(rows_.group(gi), z_);
-    rows_.group(gi).lambda = kept_lambda_[static_cast<size_t>(gi)];
-  }
   for (int gi = 0; gi < ng; ++gi)
-    if (rows_.inSolve(gi)) rows_.add(rows_.group(gi), rows_.group(gi).lambda, rows_.group(gi).rows, z_);
+    if (rows_.inSolve(gi)) rows_.group(gi).lambda = kept_lambda_[static_cast<size_t>(gi)];
+  rows_.accumulate(z_);
   return false;
 }
 
@@ -378,14 +374,9 @@ void ContactSolver::capEnergy() {
   }
   const double quadratic = 2.0 * (gain - work);  // lambda^T W lambda
   const double beta = work < 0.0 && quadratic > 0.0 ? std::min(1.0, -2.0 * work / quadratic) * (1.0 - 1e-12) : 0.0;
-  for (int gi = 0; gi < rows_.size(); ++gi) {
-    if (!rows_.inSolve(gi)) continue;
-    ContactGroup& g = rows_.group(gi);
-    rows_.clear(g, z_);
-    g.lambda *= beta;
-  }
   for (int gi = 0; gi < rows_.size(); ++gi)
-    if (rows_.inSolve(gi)) rows_.add(rows_.group(gi), rows_.group(gi).lambda, rows_.group(gi).rows, z_);
+    if (rows_.inSolve(gi)) rows_.group(gi).lambda *= beta;
+  rows_.accumulate(z_);
   ++stats_.energy_capped;
 }
 
