@@ -3,9 +3,9 @@ bus: igms-server (scenes/puma_obstacle.yaml, realtime) and igms-haptic
 --device web. The page's input layer reads a scripted pad
 (window.igmsGamepadSource), steered like a person would steer it: the
 left stick across the screen, the right stick in depth. With A released the
-cursor goes to just outside link 2; A held, it goes 3 cm in: the push reaches
-link 2 (push mode, force on the robot at the pad's point, the device renders
-it). B held on link 3 grabs it (pull mode). A SpaceMouse's WebHID reports
+cursor goes to just outside link 2; A held (the tip starts at the cursor), it
+goes 3 cm in: the push reaches link 2 where the sticks aimed (push mode,
+force on the robot at the pad's point, the device renders it). B held on link 3 grabs it (pull mode). A SpaceMouse's WebHID reports
 parse into six axes.
 
   gamepad_test.py BUILD_DIR SOURCE_DIR
@@ -49,12 +49,14 @@ return e.length();
 """
 
 
-def steer(page, goal, within=0.004, timeout=20.0):
-    """Moves the cursor to `goal`; returns the distance left."""
+def steer(page, goal, within=0.004, timeout=20.0, watch=None):
+    """Moves the cursor to `goal`; returns the distance left. watch(): called as the cursor goes."""
     end = time.time() + timeout
     left = 1.0
     while time.time() < end:
         left = page.js(STEER, goal)
+        if watch:
+            watch()
         if left < within:
             break
         time.sleep(0.03)
@@ -109,11 +111,29 @@ def body(checks, open_browser):
     checks.check(left < 0.01 and page.frame()["mode"] == 0, "A released: the sticks bring the cursor to 4 cm before link 2, "
                  "no push", "%.1f mm from there" % (1e3 * left))
     targets_before = bs.status(device_url)["device_targets"]
+    # The press starts the tip at the cursor, and it follows the cursor in: the push's first frame
+    # (watched for while the sticks steer, since the link then gives way) is where the pad was steered.
     button(page, 0, True)
-    steer(page, inside, timeout=8)
-    pushed = bs.wait_for("a frame in push mode with force",
-                         lambda: (lambda f: f if f and f["mode"] == 1 and sum(x * x for x in f["force"]) > 1 else None)(
-                             page.frame()), timeout=5, period=0.02)
+    cursor = page.js("return window.igms.gamepad.cursor.toArray()")
+
+    def tip_gap():
+        f = page.frame()
+        tip = f.get("device", {}).get("tip") if f and f.get("device", {}).get("active") else None
+        return sum((tip[i] - cursor[i]) ** 2 for i in range(3)) ** 0.5 if tip else 1.0
+    end = time.time() + 2.0
+    while tip_gap() > 0.005 and time.time() < end:
+        time.sleep(0.02)
+    checks.check(tip_gap() < 0.005, "A pressed: the tip starts at the cursor, not where it was parked",
+                 "%.1f mm from it" % (1e3 * tip_gap()))
+    first_push = []
+
+    def push_frame():
+        f = page.frame()
+        if not first_push and f and f["mode"] == 1 and sum(x * x for x in f["force"]) > 1:
+            first_push.append(f)
+        return first_push[0] if first_push else None
+    steer(page, inside, timeout=8, watch=push_frame)
+    pushed = bs.wait_for("a frame in push mode with force", push_frame, timeout=5, period=0.02)
     d = sum((pushed["point"][i] - surface[i]) ** 2 for i in range(3)) ** 0.5
     checks.check(d < 0.05, "A held, the right stick in: the pad pushes link 2 where it was steered",
                  "|f| = %.1f N at %.1f cm from the point on link 2" % (sum(x * x for x in pushed["force"]) ** 0.5, 100 * d))

@@ -2,8 +2,8 @@
 // (and WebHID for a SpaceMouse, which Chromium does not show as a gamepad).
 // Rate control in the camera's frame: a stick tilted moves the tip at up to
 // SPEED m/s, past a dead zone. A cursor (a small sphere) shows where the tip
-// is. Button 0 held (A; a 3-D mouse's left key): the tip is live and pushes
-// what it touches (eq. 3); released, it is parked. Button 1 held (B; the
+// is. Button 0 held (A; a 3-D mouse's left key): the tip jumps to the cursor,
+// is live and pushes what it touches (eq. 3); released, it is parked. Button 1 held (B; the
 // right key): a grab, the pull of eq. 4 from the link under the cursor, as a
 // shift-click there; a 3-D mouse's rotation axes turn the grabbed frame
 // meanwhile (the 6-D pull).
@@ -121,6 +121,9 @@ export class GamepadDevice {
     }
     if (live) {
       const m = { type: 'device', tip: this.cursor.toArray(), active: true, pull: !!(this.grab && !this.grab.none) };
+      // A press starts a drag where the cursor is, as a click does where it picks: without the jump the
+      // tip would come from where it was parked, along a line the person never steered.
+      if (!this.active) m.jump = true;
       if (m.pull) {
         m.attach_link = this.grab.link.name;
         m.attach_point = this.grab.attachPoint;
