@@ -5,8 +5,9 @@ bus: igms-server (scenes/puma_obstacle.yaml, realtime) and igms-haptic
 left stick across the screen, the right stick in depth. With A released the
 cursor goes to just outside link 2; A held (the tip starts at the cursor), it
 goes 3 cm in: the push reaches link 2 where the sticks aimed (push mode,
-force on the robot at the pad's point, the device renders it). B held on link 3 grabs it (pull mode). A SpaceMouse's WebHID reports
-parse into six axes.
+force on the robot at the pad's point, the device renders it). B held on
+link 3 grabs it (pull mode). A SpaceMouse's WebHID reports parse into six
+axes.
 
   gamepad_test.py BUILD_DIR SOURCE_DIR
 """

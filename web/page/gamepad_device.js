@@ -3,10 +3,10 @@
 // Rate control in the camera's frame: a stick tilted moves the tip at up to
 // SPEED m/s, past a dead zone. A cursor (a small sphere) shows where the tip
 // is. Button 0 held (A; a 3-D mouse's left key): the tip jumps to the cursor,
-// is live and pushes what it touches (eq. 3); released, it is parked. Button 1 held (B; the
-// right key): a grab, the pull of eq. 4 from the link under the cursor, as a
-// shift-click there; a 3-D mouse's rotation axes turn the grabbed frame
-// meanwhile (the 6-D pull).
+// is live and pushes what it touches (eq. 3); released, it is parked. Button
+// 1 held (B; the right key): a grab, the pull of eq. 4 from the link under
+// the cursor, as a shift-click there; a 3-D mouse's rotation axes turn the
+// grabbed frame meanwhile (the 6-D pull).
 //
 // Axes: a standard-mapping gamepad moves across the screen with the left
 // stick (0: right, 1: down) and in depth with the right stick's vertical
